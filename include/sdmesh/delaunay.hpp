@@ -1,0 +1,91 @@
+#pragma once
+// The Delaunay certificate of a mesh: is every edge locally Delaunay (LD) in the mesh's own
+// metric, and are the circumcentric dual cells positive?
+//
+// Notation (ALGORITHMS.md §1): interior edge of length l between faces (l, a, b) and (l, c, d);
+// α is the angle opposite the edge in the first face, β in the second.
+//
+// Tolerance policy (the one used everywhere in sdmesh): an interior edge is LD iff its margin
+// π - (α + β) >= -tolerance, a boundary edge under the strict policy iff π/2 - α >= -tolerance.
+// Margins are angles, hence dimensionless: the test gives the same verdict at every scale. The
+// default tolerance, 1e-10 rad, lies far above the rounding error of the margin (~1e-15) and far
+// below any margin a real mesh produces; being one-sided it makes co-circular quads count as LD,
+// so a flip loop cannot cycle on them.
+
+#include <limits>
+
+#include <Eigen/Core>
+
+#include "sdmesh/mesh.hpp"
+#include "sdmesh/topology.hpp"
+
+namespace sdmesh {
+
+inline constexpr double kDelaunayTolerance = 1e-10;
+
+/// How boundary edges are judged.
+enum class BoundaryPolicy {
+    strict,  ///< LD iff the single opposite angle is <= π/2 (every ⋆1 entry and dual cell >= 0)
+    free,    ///< always LD (Bobenko–Springborn)
+};
+
+/// π - (α + β) for a hinge with edge length l, first face (l, a, b), second face (l, c, d), in
+/// [-π, π], from lengths only (one atan2; accurate for needles and near-co-circular hinges).
+[[nodiscard]] double delaunay_margin(double l, double a, double b, double c, double d);
+
+/// π/2 - α for a boundary edge of length l in the face (l, a, b).
+[[nodiscard]] double boundary_margin(double l, double a, double b);
+
+/// (cot α + cot β) / 2, the cotan weight of an interior edge (± infinity next to a zero-area face).
+[[nodiscard]] double cotan_weight(double l, double a, double b, double c, double d);
+
+/// The square-root-free LD test: (l² - (a-b)²)(l² - (c-d)²) <= ((a+b)² - l²)((c+d)² - l²),
+/// i.e. tan(α/2)·tan(β/2) <= 1. Exact-arithmetic equivalent of delaunay_margin >= 0; used to
+/// cross-check it. No tolerance.
+[[nodiscard]] bool is_delaunay_sqrt_free(double l, double a, double b, double c, double d);
+
+struct CertifyOptions {
+    BoundaryPolicy boundary = BoundaryPolicy::strict;  ///< how boundary edges are judged
+    double tolerance = kDelaunayTolerance;             ///< see the tolerance policy above, >= 0
+};
+
+/// The result of certify(). Per-element arrays follow the EdgeTable numbering of the mesh.
+struct DelaunayCertificate {
+    /// Per edge: π - (α+β) (interior), π/2 - α (boundary), NaN on non-manifold edges.
+    Eigen::VectorXd edge_margin;
+    /// Per vertex: signed circumcentric dual area Σ_j (l_ij²/8)(cot α_ij + cot β_ij)
+    /// (ALGORITHMS.md §6); 0 for unreferenced vertices, non-finite next to a zero-area face.
+    Eigen::VectorXd dual_area;
+
+    int interior_edges = 0;          ///< edges with exactly two faces
+    int boundary_edges = 0;          ///< edges with one face
+    int nonmanifold_edges = 0;       ///< edges with three or more faces (not judged)
+    int nonmanifold_vertices = 0;    ///< vertices with more than one fan (see topology.hpp)
+    int repeated_index_faces = 0;    ///< faces with a repeated vertex (ignored)
+    int non_delaunay_edges = 0;      ///< interior edges with margin < -tolerance
+    int boundary_obtuse_edges = 0;   ///< boundary edges with margin < -tolerance (any policy)
+    int negative_cotan_weights = 0;  ///< interior + boundary edges whose cotan weight is < 0
+    int negative_dual_cells = 0;     ///< referenced vertices with dual area < -tol·Σ|terms|
+                                     ///< or non-finite
+    int gabriel_violations = 0;      ///< interior edges with an opposite vertex strictly inside
+                                     ///< the other face's circumsphere
+    /// Smallest margin over interior edges (+inf when there are none), and one edge attaining it.
+    double min_delaunay_margin = std::numeric_limits<double>::infinity();
+    int worst_edge = -1;
+
+    /// Every edge manifold, every vertex manifold, no repeated-index face, every interior edge
+    /// LD and, under the strict policy, every boundary edge LD.
+    bool self_delaunay = false;
+};
+
+/// Certifies a mesh. Lengths come from V; the mesh may have boundaries, several components and
+/// non-manifold parts (which are counted, not judged).
+/// \throws InvalidMeshError a coordinate is not finite, or a face index is out of range.
+/// \throws InvalidArgumentError tolerance < 0.
+DelaunayCertificate certify(const TriangleMesh& mesh, const CertifyOptions& options = {});
+
+/// The same on an edge table already built for this mesh (saves rebuilding it).
+DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
+                            const CertifyOptions& options = {});
+
+}  // namespace sdmesh

@@ -1,0 +1,45 @@
+#pragma once
+// Triangle quantities from edge lengths alone, with cancellation-safe formulas, so that the same
+// code serves meshes with positions and intrinsic triangulations.
+//
+// In every function, `opposite` is the length of the side opposite the angle in question and
+// `b`, `c` the two sides adjacent to it. Lengths must be finite and >= 0.
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include <Eigen/Core>
+
+namespace sdmesh {
+
+/// Triangle area from its three side lengths by Kahan's formula (accurate also for needles).
+/// Lengths that violate the triangle inequality (by rounding or otherwise) give 0.
+[[nodiscard]] inline double triangle_area(double a, double b, double c) {
+    // Kahan, "Miscalculating area and angles of a needle-like triangle": sort a >= b >= c and
+    // keep the parentheses exactly as written.
+    if (a < b) std::swap(a, b);
+    if (a < c) std::swap(a, c);
+    if (b < c) std::swap(b, c);
+    const double product = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+    return product > 0 ? 0.25 * std::sqrt(product) : 0.0;
+}
+
+/// b² + c² - opposite² (= 2bc·cos of the angle), evaluated as (p - o)(p + o) + q² with
+/// p = max(b,c), q = min(b,c): its error is O(eps·b·c), so angles near 0, π/2 and π stay accurate.
+[[nodiscard]] inline double cosine_numerator(double opposite, double b, double c) {
+    const double p = std::max(b, c), q = std::min(b, c);
+    return (p - opposite) * (p + opposite) + q * q;
+}
+
+/// The angle opposite `opposite`, in [0, π], as atan2(4·area, b² + c² - opposite²).
+[[nodiscard]] double corner_angle(double opposite, double b, double c);
+
+/// Cotangent of the angle opposite `opposite` (± infinity for a zero-area triangle).
+[[nodiscard]] double corner_cotangent(double opposite, double b, double c);
+
+/// Circumcentre of a triangle in space; non-finite for a degenerate triangle.
+[[nodiscard]] Eigen::Vector3d circumcenter(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                           const Eigen::Vector3d& c);
+
+}  // namespace sdmesh

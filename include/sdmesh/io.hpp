@@ -1,0 +1,74 @@
+#pragma once
+// Reading and writing meshes: OBJ, OFF, PLY (ascii, binary little/big endian), STL (ascii,
+// binary), each optionally gzip-compressed ("bunny.obj.gz"). The format is chosen by the file
+// extension (case-insensitive, a trailing ".gz" means gzip).
+//
+// Reading keeps every face in the file: nothing is dropped or repaired here (validate.hpp reports
+// and repairs). Polygons with n > 3 corners are fan-triangulated (n - 2 triangles) and counted.
+// STL vertices are welded by exact position (-0.0 == 0.0), numbered in order of first appearance.
+// Everything is double precision: OBJ/OFF are written with 17 significant digits and PLY with
+// `double` properties, so write -> read gives back the same bits.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sdmesh/mesh.hpp"
+
+namespace sdmesh {
+
+enum class MeshFormat { obj, off, ply, stl };
+
+/// What a reader saw in the file.
+struct ReadReport {
+    MeshFormat format = MeshFormat::obj;
+    bool compressed = false;        ///< the file was gzip-compressed
+    long long file_vertices = 0;    ///< vertices declared or listed in the file (STL: 3 per facet)
+    long long file_faces = 0;       ///< faces in the file, whatever their number of corners
+    long long polygons = 0;         ///< faces with more than 3 corners
+    long long polygon_triangles = 0;///< triangles made from those polygons by fan triangulation
+    long long welded_vertices = 0;  ///< STL only: file vertices merged with an earlier equal one
+};
+
+/// Reads a mesh file.
+/// \throws IoError the file cannot be opened or read.
+/// \throws UnsupportedFormatError unknown extension, or a header variant that is not supported.
+/// \throws ParseError malformed content; the message names the file and the line (text formats)
+///         or byte offset / element (binary formats): truncation, bad numbers, a face with fewer
+///         than 3 corners, a vertex index out of range (also 0 or too negative in OBJ).
+TriangleMesh read_mesh(const std::filesystem::path& path, ReadReport* report = nullptr);
+
+/// Parses mesh data already in memory (decompressed); `name` is used in error messages only.
+/// Same rules and exceptions as read_mesh (no IoError).
+TriangleMesh parse_mesh(std::string_view bytes, MeshFormat format, std::string_view name,
+                        ReadReport* report = nullptr);
+
+/// A named per-vertex scalar field, written as a `double` vertex property (PLY only).
+struct VertexField {
+    std::string name;
+    Eigen::VectorXd values;  ///< one value per vertex
+};
+
+struct WriteOptions {
+    /// Extra per-vertex properties, PLY only (empty by default).
+    std::vector<VertexField> vertex_fields;
+    /// PLY only: write ascii instead of binary little endian.
+    bool ply_ascii = false;
+};
+
+/// Writes a mesh: OBJ, OFF or PLY (STL is read-only), chosen by extension, ".gz" compresses.
+/// The data go to a temporary file in the same folder which is renamed over `path` at the end,
+/// so a failed or interrupted write never leaves a partial file under `path`.
+/// \throws UnsupportedFormatError unknown or read-only extension.
+/// \throws InvalidArgumentError vertex fields for a non-PLY file, a field of the wrong size or
+///         with a name that is not a PLY identifier, a face index out of range.
+/// \throws IoError the file cannot be written or renamed.
+void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh,
+                const WriteOptions& options = {});
+
+/// The format an extension names ("x.PLY.gz" -> ply, compressed = true).
+/// \throws UnsupportedFormatError for any other extension.
+MeshFormat format_from_path(const std::filesystem::path& path, bool* compressed = nullptr);
+
+}  // namespace sdmesh

@@ -1,0 +1,87 @@
+#pragma once
+// What is in a mesh, what is wrong with it, and the repairs that change no geometry.
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "sdmesh/mesh.hpp"
+#include "sdmesh/topology.hpp"
+
+namespace sdmesh {
+
+/// Counts describing a mesh. Vertices count only if a face references them (as in V - E + F);
+/// faces with a repeated index are counted and otherwise left out of the topology.
+struct MeshInfo {
+    int vertices = 0;                    ///< referenced vertices
+    int unreferenced_vertices = 0;       ///< rows of V no face uses
+    int faces = 0;
+    int edges = 0;
+    int interior_edges = 0;              ///< edges with exactly two faces
+    int boundary_edges = 0;              ///< edges with one face
+    int nonmanifold_edges = 0;           ///< edges with three or more faces
+    int nonmanifold_vertices = 0;        ///< vertices with more than one fan of faces
+    int components = 0;                  ///< connected components of the faces
+    int boundary_loops = 0;              ///< connected components of the boundary-edge graph
+    int euler_characteristic = 0;        ///< vertices - edges + faces
+    int genus = -1;                      ///< Σ over components; -1 unless orientable manifold
+    int repeated_index_faces = 0;        ///< faces with two equal vertex indices
+    int zero_area_faces = 0;             ///< area <= 1e-12 · (longest side)², finite positions
+    int degenerate_faces = 0;            ///< repeated index or zero area
+    int duplicate_faces = 0;             ///< same vertex set as an earlier face
+    int duplicate_vertex_positions = 0;  ///< referenced vertices equal to an earlier one
+    int non_finite_vertices = 0;         ///< vertices with a NaN or infinite coordinate
+    int orientation_conflicts = 0;       ///< interior edges both faces traverse the same way
+    bool orientable = true;              ///< the faces can be oriented consistently
+
+    // One offending element of each kind, for messages (-1: none).
+    Eigen::Vector2i first_nonmanifold_edge{-1, -1};  ///< as its two vertex indices
+    int first_nonmanifold_vertex = -1;
+    int first_repeated_index_face = -1;
+    int first_non_finite_vertex = -1;
+
+    /// No non-manifold edge or vertex and no face with a repeated index.
+    [[nodiscard]] bool manifold() const {
+        return nonmanifold_edges == 0 && nonmanifold_vertices == 0 && repeated_index_faces == 0;
+    }
+};
+
+/// Analyses a mesh in O(|V| + |F| log |F|).
+/// \throws InvalidMeshError a face index is out of range (nothing else can be analysed then).
+MeshInfo validate(const TriangleMesh& mesh);
+
+/// The same on an edge table already built for this mesh.
+MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges);
+
+/// One sentence naming the first thing that keeps the mesh from being a manifold with finite
+/// coordinates ("edge (3, 7) has more than two faces (12 such edges)"); empty when there is none.
+std::string first_defect(const MeshInfo& info);
+
+/// \throws InvalidMeshError "<what>: <first_defect(info)>" unless first_defect(info) is empty.
+void require_manifold(const MeshInfo& info, const std::string& what);
+
+/// Safe repairs, each optional; they never move a vertex. Applied in this order.
+struct RepairOptions {
+    bool merge_coincident_vertices = true;  ///< vertices at exactly the same position become one
+    bool drop_repeated_index_faces = true;  ///< faces with two equal indices
+    bool drop_duplicate_faces = true;       ///< keep the first face of each vertex set
+    bool orient = true;  ///< re-wind faces so each orientable component is consistent, keeping
+                         ///< the orientation of its first face
+    bool drop_unreferenced_vertices = true; ///< compact V; remaining vertices keep their order
+};
+
+struct RepairReport {
+    int merged_vertices = 0;
+    int dropped_repeated_index_faces = 0;
+    int dropped_duplicate_faces = 0;
+    int flipped_faces = 0;
+    int non_orientable_components = 0;  ///< components left as they were
+    int dropped_vertices = 0;
+};
+
+/// Returns the repaired mesh.
+/// \throws InvalidMeshError a face index is out of range.
+TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options = {},
+                    RepairReport* report = nullptr);
+
+}  // namespace sdmesh

@@ -1,0 +1,119 @@
+#include "sdmesh/cholesky.hpp"
+
+#include <cholmod.h>
+
+#include <string>
+
+#include "sdmesh/error.hpp"
+
+namespace sdmesh {
+
+struct CholeskySolver::Impl {
+    cholmod_common common{};
+    cholmod_factor* factor = nullptr;
+    int size = 0;
+    long long pattern_nonzeros = 0;
+    bool factorized = false;
+
+    Impl() {
+        cholmod_start(&common);
+        common.supernodal = CHOLMOD_SUPERNODAL;
+        common.print = 0;  // errors become exceptions here, not text on stderr
+        common.error_handler = nullptr;
+    }
+    ~Impl() {
+        if (factor) cholmod_free_factor(&factor, &common);
+        cholmod_finish(&common);
+    }
+    Impl(const Impl&) = delete;
+    Impl& operator=(const Impl&) = delete;
+
+    // A view of A's compressed columns for CHOLMOD, no copy; stype -1: only the lower triangle
+    // is read, so a full symmetric matrix can be passed as it is.
+    static cholmod_sparse view(const Eigen::SparseMatrix<double>& A) {
+        cholmod_sparse s{};
+        s.nrow = static_cast<size_t>(A.rows());
+        s.ncol = static_cast<size_t>(A.cols());
+        s.nzmax = static_cast<size_t>(A.nonZeros());
+        s.p = const_cast<int*>(A.outerIndexPtr());
+        s.i = const_cast<int*>(A.innerIndexPtr());
+        s.x = const_cast<double*>(A.valuePtr());
+        s.stype = -1;
+        s.itype = CHOLMOD_INT;
+        s.xtype = CHOLMOD_REAL;
+        s.dtype = CHOLMOD_DOUBLE;
+        s.sorted = 1;
+        s.packed = 1;
+        return s;
+    }
+};
+
+CholeskySolver::CholeskySolver() : impl_(std::make_unique<Impl>()) {}
+CholeskySolver::CholeskySolver(const Eigen::SparseMatrix<double>& A) : CholeskySolver() {
+    analyze(A);
+    factorize(A);
+}
+CholeskySolver::~CholeskySolver() = default;
+CholeskySolver::CholeskySolver(CholeskySolver&&) noexcept = default;
+CholeskySolver& CholeskySolver::operator=(CholeskySolver&&) noexcept = default;
+
+void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A) {
+    if (A.rows() != A.cols())
+        throw InvalidArgumentError("Cholesky: the matrix is " + std::to_string(A.rows()) + " x " +
+                                   std::to_string(A.cols()) + ", not square");
+    if (!A.isCompressed()) throw InvalidArgumentError("Cholesky: the matrix must be compressed");
+    Impl& m = *impl_;
+    if (m.factor) cholmod_free_factor(&m.factor, &m.common);
+    cholmod_sparse a = Impl::view(A);
+    m.factor = cholmod_analyze(&a, &m.common);
+    if (!m.factor) throw NumericalError("Cholesky: symbolic analysis failed (CHOLMOD status " +
+                                        std::to_string(m.common.status) + ")");
+    m.size = static_cast<int>(A.rows());
+    m.pattern_nonzeros = A.nonZeros();
+    m.factorized = false;
+}
+
+void CholeskySolver::factorize(const Eigen::SparseMatrix<double>& A) {
+    Impl& m = *impl_;
+    if (!m.factor) throw InvalidArgumentError("Cholesky: factorize before analyze");
+    if (A.rows() != m.size || A.cols() != m.size || A.nonZeros() != m.pattern_nonzeros || !A.isCompressed())
+        throw InvalidArgumentError("Cholesky: the matrix does not have the analysed pattern");
+    cholmod_sparse a = Impl::view(A);
+    m.factorized = false;
+    cholmod_factorize(&a, m.factor, &m.common);
+    if (m.common.status == CHOLMOD_NOT_POSDEF)
+        throw NumericalError("Cholesky: the matrix is not positive definite (column " +
+                             std::to_string(m.factor->minor) + ")");
+    if (m.common.status != CHOLMOD_OK)
+        throw NumericalError("Cholesky: factorization failed (CHOLMOD status " + std::to_string(m.common.status) + ")");
+    m.factorized = true;
+}
+
+Eigen::MatrixXd CholeskySolver::solve_columns(const Eigen::MatrixXd& b) const {
+    Impl& m = *impl_;
+    if (!m.factorized) throw InvalidArgumentError("Cholesky: solve before a successful factorize");
+    if (b.rows() != m.size)
+        throw InvalidArgumentError("Cholesky: right-hand side has " + std::to_string(b.rows()) + " rows, expected " +
+                                   std::to_string(m.size));
+    cholmod_dense rhs{};
+    rhs.nrow = static_cast<size_t>(b.rows());
+    rhs.ncol = static_cast<size_t>(b.cols());
+    rhs.nzmax = rhs.nrow * rhs.ncol;
+    rhs.d = rhs.nrow;
+    rhs.x = const_cast<double*>(b.data());
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* x = cholmod_solve(CHOLMOD_A, m.factor, &rhs, &m.common);
+    if (!x) throw NumericalError("Cholesky: solve failed (CHOLMOD status " + std::to_string(m.common.status) + ")");
+    Eigen::MatrixXd result = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x), b.rows(), b.cols());
+    cholmod_free_dense(&x, &m.common);
+    return result;
+}
+
+Eigen::VectorXd CholeskySolver::solve(const Eigen::VectorXd& b) const {
+    return solve_columns(b);
+}
+
+int CholeskySolver::rows() const { return impl_->size; }
+
+}  // namespace sdmesh

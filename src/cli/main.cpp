@@ -1,0 +1,80 @@
+// The `sdmesh` command-line tool: dispatches to subcommands and maps exceptions to exit codes.
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "sdmesh/error.hpp"
+
+namespace {
+
+using namespace sdmesh::cli;
+
+constexpr std::string_view kHelpText = R"(usage: sdmesh COMMAND [ARGS...]
+
+Commands:
+  info MESH                       topology and defects of a mesh, human-readable
+  check MESH [--json] [--boundary strict|free] [--tolerance RAD]
+                                  Delaunay certificate; exit 0 if self-Delaunay, 1 if not
+                                  L, M, d0, d1, star0/1/2 as Matrix Market files and report.json in DIR
+
+Mesh files: .obj .off .ply .stl, each optionally .gz.
+Exit codes: 0 ok, 1 not self-Delaunay, 2 usage, 3 I/O error, 4 unsupported format,
+            5 malformed file, 6 invalid mesh, 7 invalid argument, 8 numerical error,
+            70 internal error.
+)";
+
+struct Command {
+    std::string_view name;
+    int (*run)(Args&);
+};
+
+constexpr Command kCommands[] = {
+    {"info", run_info},
+    {"check", run_check},
+};
+
+int fail(int code, const std::string& message) {
+    std::cerr << "sdmesh: " << message << '\n';
+    return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::vector<std::string> words(argv + 1, argv + argc);
+    if (words.empty() || words[0] == "--help" || words[0] == "-h" || words[0] == "help") {
+        std::cout << kHelpText;
+        return words.empty() ? kUsage : kSuccess;
+    }
+    for (const Command& command : kCommands) {
+        if (words[0] != command.name) continue;
+        Args args({words.begin() + 1, words.end()}, "sdmesh " + std::string(command.name));
+        try {
+            return command.run(args);
+        } catch (const UsageError& e) {
+            return fail(kUsage, e.what());
+        } catch (const sdmesh::IoError& e) {
+            return fail(kIoError, e.what());
+        } catch (const sdmesh::UnsupportedFormatError& e) {
+            return fail(kUnsupportedFormat, e.what());
+        } catch (const sdmesh::ParseError& e) {
+            return fail(kParseError, e.what());
+        } catch (const sdmesh::InvalidMeshError& e) {
+            return fail(kInvalidMesh, e.what());
+        } catch (const sdmesh::InvalidArgumentError& e) {
+            return fail(kInvalidArgument, e.what());
+        } catch (const sdmesh::NumericalError& e) {
+            return fail(kNumericalError, e.what());
+        } catch (const std::bad_alloc&) {
+            return fail(kInternalError, "out of memory");
+        } catch (const std::exception& e) {
+            return fail(kInternalError, std::string("internal error: ") + e.what());
+        }
+    }
+    return fail(kUsage, "unknown command '" + words[0] + "' (sdmesh --help lists them)");
+}

@@ -1,0 +1,31 @@
+#pragma once
+// gzip through zlib, in memory: whole-buffer inflate for reading, a streaming encoder for writing.
+
+#include <string>
+#include <string_view>
+
+#include <zlib.h>
+
+namespace sdmesh::io {
+
+/// Decompresses gzip (or zlib) data, including files of several concatenated gzip members.
+/// \throws ParseError "<file>: ..." for corrupt or truncated data.
+std::string gunzip(std::string_view compressed, std::string_view file);
+
+/// Streams data into gzip format.
+class GzipEncoder {
+public:
+    GzipEncoder();
+    ~GzipEncoder();
+    GzipEncoder(const GzipEncoder&) = delete;
+    GzipEncoder& operator=(const GzipEncoder&) = delete;
+
+    /// Compresses `input` and appends the compressed bytes produced so far to `output`;
+    /// `finish` ends the stream (its trailer is appended too).
+    void compress(std::string_view input, bool finish, std::string& output);
+
+private:
+    z_stream stream_{};
+};
+
+}  // namespace sdmesh::io

@@ -1,0 +1,60 @@
+#pragma once
+// Collects what a reader finds (vertices, polygons) and turns it into a TriangleMesh.
+//
+// Shared by every format so that fan triangulation and the ReadReport counts are done the same
+// way everywhere. Index validation stays with the readers: only they know where in the file an
+// index came from, which the error message must say.
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "sdmesh/io.hpp"
+#include "sdmesh/mesh.hpp"
+
+namespace sdmesh::io {
+
+class MeshBuilder {
+public:
+    /// Callers bound these by what the remaining bytes can hold, never by header counts alone.
+    void reserve_vertices(std::size_t vertices) { xyz_.reserve(3 * vertices); }
+    void reserve_triangles(std::size_t triangles) { triangles_.reserve(3 * triangles); }
+
+    void add_vertex(double x, double y, double z) {
+        xyz_.push_back(x);
+        xyz_.push_back(y);
+        xyz_.push_back(z);
+    }
+
+    /// Adds a face, fan-triangulated as (0, i, i+1) when it has more than 3 corners. Corners are
+    /// kept as they are (repeated indices included). Returns false, adding nothing, for a face
+    /// with fewer than 3 corners: the caller reports that with its own location.
+    [[nodiscard]] bool add_face(std::span<const int> corners) {
+        if (corners.size() < 3) return false;
+        for (std::size_t i = 1; i + 1 < corners.size(); ++i) {
+            triangles_.push_back(corners[0]);
+            triangles_.push_back(corners[i]);
+            triangles_.push_back(corners[i + 1]);
+        }
+        ++faces_;
+        if (corners.size() > 3) {
+            ++polygons_;
+            polygon_triangles_ += static_cast<long long>(corners.size()) - 2;
+        }
+        return true;
+    }
+
+    [[nodiscard]] long long num_vertices() const { return static_cast<long long>(xyz_.size() / 3); }
+
+    /// The mesh; fills file_vertices (= vertices added), file_faces, polygons, polygon_triangles.
+    TriangleMesh finish(ReadReport& report) const;
+
+private:
+    std::vector<double> xyz_;    // x0 y0 z0 x1 ...
+    std::vector<int> triangles_; // a0 b0 c0 a1 ...
+    long long faces_ = 0;
+    long long polygons_ = 0;
+    long long polygon_triangles_ = 0;
+};
+
+}  // namespace sdmesh::io

@@ -1,0 +1,299 @@
+// The public entry points of io.hpp: format from extension, reading whole files (gunzipped when
+// needed), dispatch to the format readers and writers, and atomic writing through a temporary
+// file. Also the small pieces the readers and writers share (error wording, MeshBuilder, output).
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <string>
+#include <system_error>
+#include <utility>
+
+#include <unistd.h>
+
+#include "io/errors.hpp"
+#include "io/formats.hpp"
+#include "io/gzip.hpp"
+#include "io/mesh_builder.hpp"
+#include "io/output_file.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/io.hpp"
+
+namespace sdmesh {
+namespace io {
+
+// ---- error wording ---------------------------------------------------------------------------
+
+void throw_at_line(std::string_view file, long long line, std::string_view what) {
+    throw ParseError(std::string(file) + ":" + std::to_string(line) + ": " + std::string(what));
+}
+
+void throw_at_element(std::string_view file, std::string_view element, long long index,
+                      std::string_view what) {
+    throw ParseError(std::string(file) + ": " + std::string(element) + " " +
+                     std::to_string(index) + ": " + std::string(what));
+}
+
+std::string quoted(std::string_view token) {
+    constexpr std::size_t kMaxShown = 40;
+    std::string text = "'";
+    for (char c : token.substr(0, kMaxShown)) {
+        text += std::isprint(static_cast<unsigned char>(c)) != 0 ? c : '?';
+    }
+    text += token.size() > kMaxShown ? "...'" : "'";
+    return text;
+}
+
+// ---- MeshBuilder -----------------------------------------------------------------------------
+
+TriangleMesh MeshBuilder::finish(ReadReport& report) const {
+    using RowMajorX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+    using RowMajorX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+    TriangleMesh mesh;
+    const auto n_vertices = static_cast<Eigen::Index>(xyz_.size() / 3);
+    const auto n_triangles = static_cast<Eigen::Index>(triangles_.size() / 3);
+    mesh.V = Eigen::Map<const RowMajorX3d>(xyz_.data(), n_vertices, 3);
+    mesh.F = Eigen::Map<const RowMajorX3i>(triangles_.data(), n_triangles, 3);
+    report.file_vertices = num_vertices();
+    report.file_faces = faces_;
+    report.polygons = polygons_;
+    report.polygon_triangles = polygon_triangles_;
+    return mesh;
+}
+
+// ---- OutputFile ------------------------------------------------------------------------------
+
+namespace {
+[[noreturn]] void throw_io(const std::string& file, std::string_view what, int error_number) {
+    throw IoError(file + ": " + std::string(what) + ": " + std::strerror(error_number));
+}
+}  // namespace
+
+OutputFile::OutputFile(const std::filesystem::path& path, bool gzip) : path_(path.string()) {
+    if (gzip) gzip_ = std::make_unique<GzipEncoder>();
+    buffer_.reserve(kFlushSize + 64);
+    // Opened last, so that a throwing constructor leaves no file behind. "x": fail rather than
+    // clobber anything that is already there under this name.
+    file_ = std::fopen(path_.c_str(), "wbx");
+    if (file_ == nullptr) throw_io(path_, "cannot create file", errno);
+}
+
+OutputFile::~OutputFile() {
+    if (file_ != nullptr) std::fclose(file_);
+}
+
+void OutputFile::write_raw(std::string_view bytes) {
+    if (std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size()) {
+        throw_io(path_, "write failed", errno);
+    }
+}
+
+void OutputFile::flush(bool finish) {
+    if (gzip_) {
+        compressed_.clear();
+        gzip_->compress(buffer_, finish, compressed_);
+        write_raw(compressed_);
+    } else {
+        write_raw(buffer_);
+    }
+    buffer_.clear();
+}
+
+void OutputFile::close() {
+    flush(true);
+    std::FILE* file = std::exchange(file_, nullptr);
+    if (std::fclose(file) != 0) throw_io(path_, "write failed", errno);
+}
+
+}  // namespace io
+
+// ---- reading ---------------------------------------------------------------------------------
+
+namespace {
+
+std::string lowercase(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return text;
+}
+
+bool ends_with(std::string_view text, std::string_view suffix) {
+    return text.size() >= suffix.size() && text.substr(text.size() - suffix.size()) == suffix;
+}
+
+// The whole file. Reads in a loop rather than trusting the size up front (pipes, files that
+// grow while read).
+std::string read_file(const std::filesystem::path& path) {
+    const std::string name = path.string();
+    std::FILE* file = std::fopen(name.c_str(), "rb");
+    if (file == nullptr) io::throw_io(name, "cannot open", errno);
+    struct Closer {
+        std::FILE* f;
+        ~Closer() { std::fclose(f); }
+    } closer{file};
+
+    std::error_code ec;
+    const std::uintmax_t size_hint = std::filesystem::file_size(path, ec);
+    std::string bytes(ec ? std::size_t{1} << 16 : static_cast<std::size_t>(size_hint) + 1, '\0');
+    std::size_t used = 0;
+    for (;;) {
+        used += std::fread(bytes.data() + used, 1, bytes.size() - used, file);
+        if (used < bytes.size()) break;  // end of file or error, told apart below
+        bytes.resize(2 * bytes.size());
+    }
+    if (std::ferror(file) != 0) io::throw_io(name, "read failed", errno);
+    bytes.resize(used);
+    return bytes;
+}
+
+bool is_blank_text(std::string_view bytes) {
+    return std::all_of(bytes.begin(), bytes.end(),
+                       [](unsigned char c) { return std::isspace(c) != 0; });
+}
+
+}  // namespace
+
+MeshFormat format_from_path(const std::filesystem::path& path, bool* compressed) {
+    std::string name = lowercase(path.filename().string());
+    const bool gz = ends_with(name, ".gz");
+    if (gz) name.resize(name.size() - 3);
+    const std::string extension = lowercase(std::filesystem::path(name).extension().string());
+    MeshFormat format{};
+    if (extension == ".obj") {
+        format = MeshFormat::obj;
+    } else if (extension == ".off") {
+        format = MeshFormat::off;
+    } else if (extension == ".ply") {
+        format = MeshFormat::ply;
+    } else if (extension == ".stl") {
+        format = MeshFormat::stl;
+    } else {
+        throw UnsupportedFormatError(path.string() +
+                                     ": unknown mesh file extension (expected .obj, .off, .ply "
+                                     "or .stl, optionally followed by .gz)");
+    }
+    if (compressed != nullptr) *compressed = gz;
+    return format;
+}
+
+TriangleMesh parse_mesh(std::string_view bytes, MeshFormat format, std::string_view name,
+                        ReadReport* report) {
+    // An empty file is never a mesh: most likely a failed download or export.
+    if (is_blank_text(bytes)) throw ParseError(std::string(name) + ": empty file");
+    ReadReport local;
+    ReadReport& r = report != nullptr ? *report : local;
+    r = ReadReport{};
+    r.format = format;
+    switch (format) {
+        case MeshFormat::obj: return io::parse_obj(bytes, name, r);
+        case MeshFormat::off: return io::parse_off(bytes, name, r);
+        case MeshFormat::ply: return io::parse_ply(bytes, name, r);
+        case MeshFormat::stl: return io::parse_stl(bytes, name, r);
+    }
+    throw UnsupportedFormatError(std::string(name) + ": unknown MeshFormat value");
+}
+
+TriangleMesh read_mesh(const std::filesystem::path& path, ReadReport* report) {
+    bool compressed = false;
+    const MeshFormat format = format_from_path(path, &compressed);
+    const std::string name = path.string();
+    std::string bytes = read_file(path);
+    if (compressed) bytes = io::gunzip(bytes, name);
+    TriangleMesh mesh = parse_mesh(bytes, format, name, report);
+    if (report != nullptr) report->compressed = compressed;
+    return mesh;
+}
+
+// ---- writing ---------------------------------------------------------------------------------
+
+namespace {
+
+bool is_ply_identifier(std::string_view name) {
+    auto is_start = [](unsigned char c) { return std::isalpha(c) != 0 || c == '_'; };
+    auto is_rest = [](unsigned char c) { return std::isalnum(c) != 0 || c == '_'; };
+    return !name.empty() && is_start(static_cast<unsigned char>(name[0])) &&
+           std::all_of(name.begin() + 1, name.end(),
+                       [&](char c) { return is_rest(static_cast<unsigned char>(c)); });
+}
+
+// Everything write_mesh promises to reject before it creates any file.
+void check_writable(const std::string& name, MeshFormat format, const TriangleMesh& mesh,
+                    const WriteOptions& options) {
+    auto reject = [&](const std::string& what) { throw InvalidArgumentError(name + ": " + what); };
+    if (mesh.V.rows() > INT_MAX) reject("too many vertices for int indices");
+    if (!options.vertex_fields.empty() && format != MeshFormat::ply) {
+        reject("vertex fields can only be written to PLY files");
+    }
+    for (std::size_t i = 0; i < options.vertex_fields.size(); ++i) {
+        const VertexField& field = options.vertex_fields[i];
+        if (!is_ply_identifier(field.name) || field.name == "x" || field.name == "y" ||
+            field.name == "z") {
+            reject("vertex field name " + io::quoted(field.name) +
+                   " is not a PLY identifier other than x, y, z");
+        }
+        for (std::size_t j = 0; j < i; ++j) {
+            if (options.vertex_fields[j].name == field.name) {
+                reject("vertex field name " + io::quoted(field.name) + " used twice");
+            }
+        }
+        if (field.values.size() != mesh.V.rows()) {
+            reject("vertex field " + io::quoted(field.name) + " has " +
+                   std::to_string(field.values.size()) + " values for " +
+                   std::to_string(mesh.V.rows()) + " vertices");
+        }
+    }
+    for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+        for (int k = 0; k < 3; ++k) {
+            const int index = mesh.F(f, k);
+            if (index < 0 || index >= mesh.V.rows()) {
+                reject("face " + std::to_string(f) + " has vertex index " + std::to_string(index) +
+                       " out of range [0, " + std::to_string(mesh.V.rows()) + ")");
+            }
+        }
+    }
+}
+
+// A name in the target's folder that no other writer (thread or process) uses at the same time.
+std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
+    static std::atomic<unsigned long> counter{0};
+    std::filesystem::path temporary = path;
+    temporary += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    return temporary;
+}
+
+}  // namespace
+
+void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh,
+                const WriteOptions& options) {
+    bool compressed = false;
+    const MeshFormat format = format_from_path(path, &compressed);
+    const std::string name = path.string();
+    if (format == MeshFormat::stl) {
+        throw UnsupportedFormatError(name + ": writing STL is not supported (use OBJ, OFF or PLY)");
+    }
+    check_writable(name, format, mesh, options);
+
+    const std::filesystem::path temporary = temporary_path_for(path);
+    io::OutputFile out(temporary, compressed);  // on failure nothing has been created
+    try {
+        switch (format) {
+            case MeshFormat::obj: io::write_obj(mesh, out); break;
+            case MeshFormat::off: io::write_off(mesh, out); break;
+            case MeshFormat::ply: io::write_ply(mesh, options.vertex_fields, options.ply_ascii, out); break;
+            case MeshFormat::stl: break;  // rejected above
+        }
+        out.close();
+        std::error_code ec;
+        std::filesystem::rename(temporary, path, ec);
+        if (ec) throw IoError(name + ": cannot rename the temporary file over it: " + ec.message());
+    } catch (...) {
+        std::error_code ignored;
+        std::filesystem::remove(temporary, ignored);
+        throw;
+    }
+}
+
+}  // namespace sdmesh

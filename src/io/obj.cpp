@@ -1,0 +1,128 @@
+// Wavefront OBJ: `v x y z [w]` and `f` (also the old `fo`) lines; everything else is ignored.
+//
+// Face corners are `v`, `v/vt`, `v//vn` or `v/vt/vn`; only v is kept. Indices start at 1;
+// negative ones count back from the last vertex defined so far. A positive index may refer to a
+// vertex defined further down the file, so it is checked against the final vertex count.
+
+#include <climits>
+#include <string>
+#include <vector>
+
+#include "io/formats.hpp"
+#include "io/mesh_builder.hpp"
+#include "io/text_scanner.hpp"
+
+namespace sdmesh::io {
+namespace {
+
+class ObjReader {
+public:
+    ObjReader(std::string_view text, std::string_view file) : in_(text, file, true), file_(file) {}
+
+    TriangleMesh read(ReadReport& report) {
+        while (in_.skip_empty_lines()) {
+            const std::string_view keyword = in_.token();
+            if (keyword == "v") {
+                read_vertex();
+            } else if (keyword == "f" || keyword == "fo") {
+                read_face();
+            }
+            in_.next_line();  // also skips `w`, vertex colors and every other keyword
+        }
+        check_forward_indices();
+        return mesh_.finish(report);
+    }
+
+private:
+    void read_vertex() {
+        const double x = in_.read_double("vertex x coordinate");
+        const double y = in_.read_double("vertex y coordinate");
+        const double z = in_.read_double("vertex z coordinate");
+        mesh_.add_vertex(x, y, z);
+    }
+
+    void read_face() {
+        corners_.clear();
+        for (;;) {
+            in_.skip_blanks();
+            if (in_.at_line_end()) break;
+            corners_.push_back(vertex_index(in_.token()));
+        }
+        if (!mesh_.add_face(corners_)) {
+            in_.fail("face with " + std::to_string(corners_.size()) + " corners (needs 3 or more)");
+        }
+    }
+
+    // The 0-based vertex of one corner token "v[/vt][/vn]".
+    int vertex_index(std::string_view token) {
+        long long index = 0;
+        const std::size_t used = in_.parse_integer_prefix(token, index);
+        if (used == 0 || (used < token.size() && token[used] != '/')) {
+            in_.fail("bad face corner " + quoted(token));
+        }
+        const long long defined = mesh_.num_vertices();
+        if (index == 0) in_.fail("vertex index 0 (OBJ indices start at 1)");
+        if (index < 0) {
+            if (-index > defined) {
+                in_.fail("relative vertex index " + std::to_string(index) + " reaches before the first vertex (" +
+                         std::to_string(defined) + " defined so far)");
+            }
+            return static_cast<int>(defined + index);
+        }
+        if (index > INT_MAX) in_.fail("vertex index " + std::to_string(index) + " out of range");
+        if (index > max_index_) {
+            max_index_ = index;
+            max_index_line_ = in_.line();
+        }
+        return static_cast<int>(index - 1);
+    }
+
+    void check_forward_indices() const {
+        const long long defined = mesh_.num_vertices();
+        if (max_index_ > defined) {
+            throw_at_line(file_, max_index_line_,
+                          "vertex index " + std::to_string(max_index_) + " out of range (the file has " +
+                              std::to_string(defined) + " vertices)");
+        }
+    }
+
+    TextScanner in_;
+    std::string_view file_;
+    MeshBuilder mesh_;
+    std::vector<int> corners_;    // reused for every face
+    long long max_index_ = 0;     // largest positive index seen, and where
+    long long max_index_line_ = 0;
+};
+
+}  // namespace
+
+TriangleMesh parse_obj(std::string_view text, std::string_view file, ReadReport& report) {
+    return ObjReader(text, file).read(report);
+}
+
+void write_obj(const TriangleMesh& mesh, OutputFile& out) {
+    // Also keeps the file of an empty mesh non-empty (an empty file is a read error).
+    out.write("# written by sdmesh: ");
+    out.write_text(static_cast<long long>(mesh.V.rows()));
+    out.write(" vertices, ");
+    out.write_text(static_cast<long long>(mesh.F.rows()));
+    out.write(" triangles\n");
+    for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) {
+        out.write("v");
+        for (int k = 0; k < 3; ++k) {
+            out.put(' ');
+            out.write_text(mesh.V(v, k));
+        }
+        out.put('\n');
+    }
+    for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+        out.write("f");
+        for (int k = 0; k < 3; ++k) {
+            out.put(' ');
+            out.write_text(static_cast<long long>(mesh.F(f, k)) + 1);
+        }
+        out.put('\n');
+    }
+}
+
+}  // namespace sdmesh::io

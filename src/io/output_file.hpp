@@ -1,0 +1,69 @@
+#pragma once
+// Buffered output to a new file, optionally gzip-compressed, with the number formatting the
+// writers share: text doubles with 17 significant digits (enough to give back the same bits)
+// and little-endian binary values.
+
+#include <charconv>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "io/binary_reader.hpp"
+#include "io/gzip.hpp"
+
+namespace sdmesh::io {
+
+class OutputFile {
+public:
+    /// Creates `path`, which must not exist yet. \throws IoError
+    OutputFile(const std::filesystem::path& path, bool gzip);
+    /// Closes the file without reporting errors (the failure path; success calls close()).
+    ~OutputFile();
+    OutputFile(const OutputFile&) = delete;
+    OutputFile& operator=(const OutputFile&) = delete;
+
+    void write(std::string_view bytes) {
+        buffer_.append(bytes);
+        if (buffer_.size() >= kFlushSize) flush(false);
+    }
+    void put(char c) { write(std::string_view(&c, 1)); }
+
+    /// Shortest form up to 17 significant digits ("%.17g"): reading it back gives the same bits.
+    void write_text(double value) {
+        char text[32];
+        auto result = std::to_chars(text, text + sizeof text, value, std::chars_format::general, 17);
+        write(std::string_view(text, static_cast<std::size_t>(result.ptr - text)));
+    }
+    void write_text(long long value) {
+        char text[24];
+        auto result = std::to_chars(text, text + sizeof text, value);
+        write(std::string_view(text, static_cast<std::size_t>(result.ptr - text)));
+    }
+
+    template <class T>
+    void write_little_endian(T value) {
+        value = convert_byte_order(value, ByteOrder::little);
+        char bytes[sizeof(T)];
+        std::memcpy(bytes, &value, sizeof(T));
+        write(std::string_view(bytes, sizeof(T)));
+    }
+
+    /// Flushes everything, ends the gzip stream and closes the file. \throws IoError
+    void close();
+
+private:
+    static constexpr std::size_t kFlushSize = std::size_t{1} << 20;
+    void flush(bool finish);
+    void write_raw(std::string_view bytes);
+
+    std::string path_;
+    std::FILE* file_ = nullptr;
+    std::unique_ptr<GzipEncoder> gzip_;
+    std::string buffer_;
+    std::string compressed_;
+};
+
+}  // namespace sdmesh::io

@@ -1,0 +1,164 @@
+#pragma once
+// A cursor over the text of OBJ, OFF, ascii PLY and ascii STL files.
+//
+// The whole (decompressed) file is in memory; the scanner walks it in place, parses numbers with
+// std::from_chars (locale-independent, exact, no allocation) and counts lines so that every error
+// names "<file>:<line>". Formats are line-oriented: a record is read from one line, then
+// next_line() skips whatever is left on it (colors, texture indices, comments).
+
+#include <charconv>
+#include <cstring>
+#include <string>
+#include <string_view>
+#include <system_error>
+
+#include "io/errors.hpp"
+
+namespace sdmesh::io {
+
+class TextScanner {
+public:
+    /// `hash_comments`: '#' starts a comment that runs to the end of the line (OBJ, OFF).
+    TextScanner(std::string_view text, std::string_view file, bool hash_comments)
+        : pos_(text.data()), end_(text.data() + text.size()), file_(file),
+          hash_comments_(hash_comments) {}
+
+    [[nodiscard]] bool at_end() const { return pos_ == end_; }
+    [[nodiscard]] long long line() const { return line_; }
+    [[nodiscard]] const char* position() const { return pos_; }
+    [[nodiscard]] std::size_t remaining() const { return static_cast<std::size_t>(end_ - pos_); }
+
+    /// Skips blanks on the current line. A backslash right before the newline continues the line
+    /// (OBJ allows it; elsewhere it does no harm).
+    void skip_blanks() {
+        while (pos_ != end_) {
+            if (is_blank(*pos_)) {
+                ++pos_;
+            } else if (*pos_ == '\\' && continues_line()) {
+                pos_ = static_cast<const char*>(std::memchr(pos_, '\n', remaining())) + 1;
+                ++line_;
+            } else {
+                break;
+            }
+        }
+    }
+
+    /// At a newline, a comment or the end of the text (call after skip_blanks()).
+    [[nodiscard]] bool at_line_end() const {
+        return pos_ == end_ || *pos_ == '\n' || (hash_comments_ && *pos_ == '#');
+    }
+
+    /// Moves to the start of the next line, dropping the rest of this one.
+    void next_line() {
+        const void* newline = std::memchr(pos_, '\n', remaining());
+        if (newline == nullptr) {
+            pos_ = end_;
+            return;
+        }
+        pos_ = static_cast<const char*>(newline) + 1;
+        ++line_;
+    }
+
+    /// Skips blank and comment-only lines; afterwards the cursor is on the first token of a line.
+    /// Returns false when the text ends first.
+    bool skip_empty_lines() {
+        for (;;) {
+            skip_blanks();
+            if (!at_line_end()) return true;
+            if (at_end()) return false;
+            next_line();
+        }
+    }
+
+    /// Requires that nothing but blanks or a comment is left on the line, then moves past it.
+    void finish_line() {
+        skip_blanks();
+        if (!at_line_end()) fail("unexpected " + quoted(token()) + " at the end of the line");
+        next_line();
+    }
+
+    /// The next whitespace-delimited token on the line; empty at the end of the line.
+    std::string_view token() {
+        skip_blanks();
+        const char* first = pos_;
+        while (pos_ != end_ && !is_delimiter(*pos_)) ++pos_;
+        return {first, static_cast<std::size_t>(pos_ - first)};
+    }
+
+    /// The next token as a double; `what` names the expected value in the error message.
+    double read_double(std::string_view what) {
+        std::string_view tok = token();
+        if (tok.empty()) fail("expected " + std::string(what));
+        return parse_double(tok);
+    }
+
+    /// The next token as a decimal integer.
+    long long read_integer(std::string_view what) {
+        std::string_view tok = token();
+        if (tok.empty()) fail("expected " + std::string(what));
+        long long value = 0;
+        if (parse_integer_prefix(tok, value) != tok.size()) fail("bad integer " + quoted(tok));
+        return value;
+    }
+
+    /// Parses a whole token as a double. Non-finite spellings (nan, inf) are accepted: checking
+    /// them is validation's job. Values out of double range (1e999) are errors.
+    double parse_double(std::string_view tok) const {
+        const char* first = tok.data();
+        const char* last = first + tok.size();
+        if (first != last && *first == '+') ++first;  // from_chars rejects a leading '+'
+        double value = 0;
+        auto [ptr, ec] = std::from_chars(first, last, value);
+        if (ec == std::errc::result_out_of_range) fail("number out of double range " + quoted(tok));
+        if (ec != std::errc() || ptr != last) fail("bad number " + quoted(tok));
+        return value;
+    }
+
+    /// Parses a decimal integer at the start of `tok`; returns how many characters it used
+    /// (0 when there is no integer there). Overflow is an error.
+    std::size_t parse_integer_prefix(std::string_view tok, long long& value) const {
+        const char* first = tok.data();
+        const char* last = first + tok.size();
+        if (first != last && *first == '+') ++first;
+        auto [ptr, ec] = std::from_chars(first, last, value);
+        if (ec == std::errc::result_out_of_range) fail("integer out of range " + quoted(tok));
+        if (ec != std::errc()) return 0;
+        return static_cast<std::size_t>(ptr - tok.data());
+    }
+
+    /// Names the record being read (ascii PLY), for error messages:
+    /// "<file>:<line>: <element> <index>: <what>".
+    void set_location(std::string_view element, long long index) {
+        element_ = element;
+        index_ = index;
+    }
+
+    [[noreturn]] void fail(std::string_view what) const {
+        if (element_.empty()) throw_at_line(file_, line_, what);
+        throw_at_line(file_, line_, std::string(element_) + " " + std::to_string(index_) + ": " + std::string(what));
+    }
+
+private:
+    static bool is_blank(char c) {
+        return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+    }
+    bool is_delimiter(char c) const {
+        return is_blank(c) || c == '\n' || (hash_comments_ && c == '#');
+    }
+    // "\\\n" or "\\\r\n"
+    bool continues_line() const {
+        const char* next = pos_ + 1;
+        if (next != end_ && *next == '\r') ++next;
+        return next != end_ && *next == '\n';
+    }
+
+    const char* pos_;
+    const char* end_;
+    std::string_view file_;
+    bool hash_comments_;
+    long long line_ = 1;
+    std::string_view element_;
+    long long index_ = 0;
+};
+
+}  // namespace sdmesh::io

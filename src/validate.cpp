@@ -1,0 +1,275 @@
+#include "sdmesh/validate.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <queue>
+#include <string>
+#include <vector>
+
+#include "sdmesh/error.hpp"
+#include "sdmesh/geometry.hpp"
+#include "union_find.hpp"
+
+namespace sdmesh {
+namespace {
+
+std::vector<char> referenced_vertices(const TriangleMesh& mesh) {
+    std::vector<char> referenced(mesh.num_vertices(), 0);
+    for (int f = 0; f < mesh.num_faces(); ++f)
+        for (int k = 0; k < 3; ++k) referenced[mesh.F(f, k)] = 1;
+    return referenced;
+}
+
+// representative[v] = the smallest-index vertex among those with exactly v's position, for the
+// vertices in `mask` with finite coordinates; v itself otherwise.
+std::vector<int> coincident_representatives(const Eigen::MatrixX3d& V,
+                                            const std::vector<char>& mask) {
+    std::vector<int> order;
+    for (int v = 0; v < V.rows(); ++v)
+        if (mask[v] && V.row(v).allFinite()) order.push_back(v);
+    auto less = [&V](int a, int b) {
+        for (int i = 0; i < 3; ++i)
+            if (V(a, i) != V(b, i)) return V(a, i) < V(b, i);
+        return a < b;
+    };
+    std::sort(order.begin(), order.end(), less);
+    std::vector<int> representative(V.rows());
+    std::iota(representative.begin(), representative.end(), 0);
+    for (size_t i = 1; i < order.size(); ++i)
+        if (V.row(order[i]) == V.row(order[i - 1]))
+            representative[order[i]] = representative[order[i - 1]];
+    return representative;
+}
+
+// Faces whose vertex set equals that of an earlier face.
+std::vector<char> duplicate_faces(const Eigen::MatrixX3i& F) {
+    std::vector<std::pair<std::array<int, 3>, int>> keys(F.rows());
+    for (int f = 0; f < F.rows(); ++f) {
+        std::array<int, 3> key = {F(f, 0), F(f, 1), F(f, 2)};
+        std::sort(key.begin(), key.end());
+        keys[f] = {key, f};
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<char> duplicate(F.rows(), 0);
+    for (size_t i = 1; i < keys.size(); ++i)
+        if (keys[i].first == keys[i - 1].first) duplicate[keys[i].second] = 1;
+    return duplicate;
+}
+
+// True when the two halfedges of an interior edge run the same way (inconsistent orientation).
+bool same_direction(const Eigen::MatrixX3i& F, int h0, int h1) {
+    auto tail = [&F](int h) { return F(h / 3, (h % 3 + 1) % 3); };
+    return tail(h0) == tail(h1);
+}
+
+struct Orientation {
+    std::vector<char> flip;  ///< faces to re-wind for a consistent orientation
+    int non_orientable_components = 0;
+};
+
+// Breadth-first 2-colouring of the faces across interior edges: a face is flipped relative to
+// its neighbour when they traverse the shared edge the same way. A contradiction marks the
+// component non-orientable (its faces are left as they are). The first face of each component keeps its orientation.
+Orientation orient_faces(const Eigen::MatrixX3i& F, const EdgeTable& edges) {
+    const int num_faces = static_cast<int>(F.rows());
+    Orientation result;
+    result.flip.assign(num_faces, 0);
+    std::vector<int> component(num_faces, -1);
+    std::vector<int> members;
+    for (int seed = 0; seed < num_faces; ++seed) {
+        if (component[seed] >= 0 || has_repeated_index(F, seed)) continue;
+        bool orientable = true;
+        members.clear();
+        std::queue<int> queue;
+        queue.push(seed);
+        component[seed] = seed;
+        while (!queue.empty()) {
+            const int f = queue.front();
+            queue.pop();
+            members.push_back(f);
+            for (int k = 0; k < 3; ++k) {
+                const int e = edges.face_edge(f, k);
+                if (edges.face_count[e] != 2) continue;
+                const int h0 = edges.edge_halfedges(e, 0), h1 = edges.edge_halfedges(e, 1);
+                const int g = (h0 / 3 == f) ? h1 / 3 : h0 / 3;
+                const char wanted = result.flip[f] ^ static_cast<char>(same_direction(F, h0, h1));
+                if (component[g] < 0) {
+                    component[g] = seed;
+                    result.flip[g] = wanted;
+                    queue.push(g);
+                } else if (result.flip[g] != wanted) {
+                    orientable = false;
+                }
+            }
+        }
+        if (!orientable) {
+            ++result.non_orientable_components;
+            for (int f : members) result.flip[f] = 0;
+        }
+    }
+    return result;
+}
+
+}  // namespace
+
+MeshInfo validate(const TriangleMesh& mesh) {
+    require_indices_in_range(mesh);
+    return validate(mesh, build_edge_table(mesh.F, mesh.num_vertices()));
+}
+
+MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges) {
+    require_indices_in_range(mesh);
+    const auto& V = mesh.V;
+    const auto& F = mesh.F;
+    const int num_vertices = mesh.num_vertices();
+    MeshInfo info;
+    info.faces = mesh.num_faces();
+    info.edges = edges.num_edges();
+
+    const std::vector<char> referenced = referenced_vertices(mesh);
+    for (int v = 0; v < num_vertices; ++v) {
+        info.vertices += referenced[v];
+        if (!V.row(v).allFinite()) {
+            ++info.non_finite_vertices;
+            if (info.first_non_finite_vertex < 0) info.first_non_finite_vertex = v;
+        }
+    }
+    info.unreferenced_vertices = num_vertices - info.vertices;
+    const std::vector<int> representative = coincident_representatives(V, referenced);
+    for (int v = 0; v < num_vertices; ++v) info.duplicate_vertex_positions += representative[v] != v;
+
+    for (int f = 0; f < info.faces; ++f) {
+        if (has_repeated_index(F, f)) {
+            ++info.repeated_index_faces;
+            if (info.first_repeated_index_face < 0) info.first_repeated_index_face = f;
+            continue;
+        }
+        double l[3];
+        for (int k = 0; k < 3; ++k) l[k] = (V.row(F(f, (k + 1) % 3)) - V.row(F(f, (k + 2) % 3))).norm();
+        const double longest = std::max({l[0], l[1], l[2]});
+        if (std::isfinite(longest) && triangle_area(l[0], l[1], l[2]) <= 1e-12 * longest * longest)
+            ++info.zero_area_faces;
+    }
+    info.degenerate_faces = info.repeated_index_faces + info.zero_area_faces;
+    const std::vector<char> duplicate = duplicate_faces(F);
+    info.duplicate_faces = static_cast<int>(std::count(duplicate.begin(), duplicate.end(), 1));
+
+    UnionFind boundary_graph(num_vertices);
+    std::vector<char> on_boundary(num_vertices, 0);
+    for (int e = 0; e < info.edges; ++e) {
+        const int count = edges.face_count[e];
+        if (count == 1) {
+            ++info.boundary_edges;
+            boundary_graph.unite(edges.E(e, 0), edges.E(e, 1));
+            on_boundary[edges.E(e, 0)] = on_boundary[edges.E(e, 1)] = 1;
+        } else if (count == 2) {
+            ++info.interior_edges;
+            if (same_direction(F, edges.edge_halfedges(e, 0), edges.edge_halfedges(e, 1)))
+                ++info.orientation_conflicts;
+        } else {
+            if (info.nonmanifold_edges == 0) info.first_nonmanifold_edge = edges.E.row(e).transpose();
+            ++info.nonmanifold_edges;
+        }
+    }
+    info.nonmanifold_vertices = static_cast<int>(edges.nonmanifold_vertices.size());
+    if (info.nonmanifold_vertices > 0) info.first_nonmanifold_vertex = edges.nonmanifold_vertices.front();
+
+    UnionFind connectivity(num_vertices);
+    for (int f = 0; f < info.faces; ++f) {
+        connectivity.unite(F(f, 0), F(f, 1));
+        connectivity.unite(F(f, 0), F(f, 2));
+    }
+    for (int v = 0; v < num_vertices; ++v) {
+        if (referenced[v] && connectivity.find(v) == v) ++info.components;
+        if (on_boundary[v] && boundary_graph.find(v) == v) ++info.boundary_loops;
+    }
+
+    // Without conflicts the faces are oriented consistently already.
+    info.orientable = info.orientation_conflicts == 0 || orient_faces(F, edges).non_orientable_components == 0;
+    info.euler_characteristic = info.vertices - info.edges + info.faces;
+    if (info.manifold() && info.orientable)
+        info.genus = (2 * info.components - info.boundary_loops - info.euler_characteristic) / 2;
+    return info;
+}
+
+std::string first_defect(const MeshInfo& info) {
+    using std::to_string;
+    if (info.non_finite_vertices > 0)
+        return "vertex " + to_string(info.first_non_finite_vertex) + " has a coordinate that is not finite";
+    if (info.repeated_index_faces > 0)
+        return "face " + to_string(info.first_repeated_index_face) + " has a repeated vertex index";
+    if (info.nonmanifold_edges > 0)
+        return "edge (" + to_string(info.first_nonmanifold_edge[0]) + ", " +
+               to_string(info.first_nonmanifold_edge[1]) + ") has more than two faces (" +
+               to_string(info.nonmanifold_edges) + " such edges)";
+    if (info.nonmanifold_vertices > 0)
+        return "vertex " + to_string(info.first_nonmanifold_vertex) + " is non-manifold (" +
+               to_string(info.nonmanifold_vertices) + " such vertices)";
+    return {};
+}
+
+void require_manifold(const MeshInfo& info, const std::string& what) {
+    if (const std::string defect = first_defect(info); !defect.empty())
+        throw InvalidMeshError(what + ": " + defect);
+}
+
+TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, RepairReport* report) {
+    require_indices_in_range(mesh);
+    RepairReport counts;
+    TriangleMesh out = mesh;
+
+    if (options.merge_coincident_vertices) {
+        const std::vector<int> representative =
+            coincident_representatives(out.V, referenced_vertices(out));
+        for (int v = 0; v < out.num_vertices(); ++v) counts.merged_vertices += representative[v] != v;
+        for (int f = 0; f < out.num_faces(); ++f)
+            for (int k = 0; k < 3; ++k) out.F(f, k) = representative[out.F(f, k)];
+    }
+
+    auto keep_faces = [&out](const std::vector<char>& drop) {
+        Eigen::MatrixX3i kept(out.num_faces() - std::count(drop.begin(), drop.end(), 1), 3);
+        for (int f = 0, row = 0; f < out.num_faces(); ++f)
+            if (!drop[f]) kept.row(row++) = out.F.row(f);
+        out.F = std::move(kept);
+    };
+    if (options.drop_repeated_index_faces) {
+        std::vector<char> drop(out.num_faces());
+        for (int f = 0; f < out.num_faces(); ++f) drop[f] = has_repeated_index(out.F, f);
+        counts.dropped_repeated_index_faces = static_cast<int>(std::count(drop.begin(), drop.end(), 1));
+        keep_faces(drop);
+    }
+    if (options.drop_duplicate_faces) {
+        const std::vector<char> drop = duplicate_faces(out.F);
+        counts.dropped_duplicate_faces = static_cast<int>(std::count(drop.begin(), drop.end(), 1));
+        keep_faces(drop);
+    }
+    if (options.orient) {
+        const Orientation orientation = orient_faces(out.F, build_edge_table(out.F, out.num_vertices()));
+        counts.non_orientable_components = orientation.non_orientable_components;
+        for (int f = 0; f < out.num_faces(); ++f)
+            if (orientation.flip[f]) {
+                std::swap(out.F(f, 1), out.F(f, 2));
+                ++counts.flipped_faces;
+            }
+    }
+    if (options.drop_unreferenced_vertices) {
+        const std::vector<char> referenced = referenced_vertices(out);
+        std::vector<int> new_index(out.num_vertices(), -1);
+        int kept = 0;
+        for (int v = 0; v < out.num_vertices(); ++v)
+            if (referenced[v]) new_index[v] = kept++;
+        counts.dropped_vertices = out.num_vertices() - kept;
+        Eigen::MatrixX3d V(kept, 3);
+        for (int v = 0; v < out.num_vertices(); ++v)
+            if (referenced[v]) V.row(new_index[v]) = out.V.row(v);
+        for (int f = 0; f < out.num_faces(); ++f)
+            for (int k = 0; k < 3; ++k) out.F(f, k) = new_index[out.F(f, k)];
+        out.V = std::move(V);
+    }
+    if (report) *report = counts;
+    return out;
+}
+
+}  // namespace sdmesh

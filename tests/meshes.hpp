@@ -1,0 +1,43 @@
+#pragma once
+// Small meshes built in code for the tests, beyond the generators of sdmesh/shapes.hpp.
+
+#include <initializer_list>
+
+#include <Eigen/Geometry>
+
+#include "sdmesh/mesh.hpp"
+
+namespace sdmesh::test {
+
+inline TriangleMesh make_mesh(std::initializer_list<Eigen::RowVector3d> vertices,
+                              std::initializer_list<Eigen::RowVector3i> faces) {
+    TriangleMesh mesh;
+    mesh.V.resize(static_cast<Eigen::Index>(vertices.size()), 3);
+    mesh.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
+    Eigen::Index i = 0;
+    for (const auto& v : vertices) mesh.V.row(i++) = v;
+    i = 0;
+    for (const auto& f : faces) mesh.F.row(i++) = f;
+    return mesh;
+}
+
+/// Sum of the face areas.
+inline double total_area(const TriangleMesh& mesh) {
+    double area = 0;
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+        const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                              c = mesh.V.row(mesh.F(f, 2));
+        area += 0.5 * (b - a).cross(c - a).norm();
+    }
+    return area;
+}
+
+/// A planar fan around vertex 0 at the origin whose circumcentric dual cell has negative area:
+/// its spokes face obtuse angles at the ring vertices.
+inline TriangleMesh make_negative_dual_fan() {
+    return make_mesh({{0, 0, 0}, {0, 0.2, 0}, {-0.3, 0.4, 0}, {-0.8, 0.6, 0}, {-0.3, 0, 0},
+                      {-0.1, -0.1, 0}, {0.1, -0.1, 0}},
+                     {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}, {0, 5, 6}, {0, 6, 1}});
+}
+
+}  // namespace sdmesh::test

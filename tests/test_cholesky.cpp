@@ -1,0 +1,69 @@
+// The CHOLMOD wrapper: solves, refactorization on a fixed pattern, typed errors.
+
+#include <vector>
+
+#include <Eigen/SparseCore>
+#include <gtest/gtest.h>
+
+#include "sdmesh/cholesky.hpp"
+#include "sdmesh/error.hpp"
+
+namespace sdmesh {
+namespace {
+
+// shift·I + the graph Laplacian of an n × n grid: SPD for shift > 0, singular for shift = 0,
+// indefinite for shift < 0.
+Eigen::SparseMatrix<double> grid_matrix(int n, double shift) {
+    std::vector<Eigen::Triplet<double>> entries;
+    auto id = [n](int i, int j) { return j * n + i; };
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            entries.emplace_back(id(i, j), id(i, j), shift);
+            for (auto [di, dj] : {std::pair{1, 0}, std::pair{0, 1}}) {
+                if (i + di >= n || j + dj >= n) continue;
+                const int a = id(i, j), b = id(i + di, j + dj);
+                entries.emplace_back(a, a, 1.0);
+                entries.emplace_back(b, b, 1.0);
+                entries.emplace_back(a, b, -1.0);
+                entries.emplace_back(b, a, -1.0);
+            }
+        }
+    Eigen::SparseMatrix<double> A(n * n, n * n);
+    A.setFromTriplets(entries.begin(), entries.end());
+    return A;
+}
+
+TEST(Cholesky, SolvesAndRefactorizes) {
+    const Eigen::SparseMatrix<double> A = grid_matrix(30, 0.1);
+    const Eigen::MatrixXd b = Eigen::MatrixXd::Random(A.rows(), 3);
+    CholeskySolver solver(A);
+    EXPECT_EQ(solver.rows(), 900);
+    const Eigen::MatrixXd x = solver.solve_columns(b);
+    EXPECT_LT((A * x - b).norm(), 1e-10 * b.norm());
+
+    const Eigen::SparseMatrix<double> B = grid_matrix(30, 2.5);  // same pattern, other values
+    solver.factorize(B);
+    const Eigen::VectorXd y = solver.solve(Eigen::VectorXd(b.col(0)));
+    EXPECT_LT((B * y - b.col(0)).norm(), 1e-10 * b.col(0).norm());
+}
+
+TEST(Cholesky, RejectsMatricesThatAreNotPositiveDefinite) {
+    EXPECT_THROW(CholeskySolver(grid_matrix(10, -0.5)), NumericalError);
+    CholeskySolver solver(grid_matrix(10, 1.0));
+    EXPECT_THROW(solver.factorize(grid_matrix(10, -0.5)), NumericalError);
+    EXPECT_THROW((void)solver.solve(Eigen::VectorXd::Ones(100)), InvalidArgumentError);  // factor is gone
+}
+
+TEST(Cholesky, RejectsMisuse) {
+    CholeskySolver solver;
+    EXPECT_THROW(solver.factorize(grid_matrix(4, 1.0)), InvalidArgumentError);
+    EXPECT_THROW((void)solver.solve(Eigen::VectorXd::Ones(16)), InvalidArgumentError);
+    EXPECT_THROW(solver.analyze(Eigen::SparseMatrix<double>(3, 4)), InvalidArgumentError);
+    solver.analyze(grid_matrix(4, 1.0));
+    EXPECT_THROW(solver.factorize(grid_matrix(5, 1.0)), InvalidArgumentError);
+    solver.factorize(grid_matrix(4, 1.0));
+    EXPECT_THROW((void)solver.solve(Eigen::VectorXd::Ones(15)), InvalidArgumentError);
+}
+
+}  // namespace
+}  // namespace sdmesh

@@ -1,0 +1,118 @@
+// The `sdmesh` executable: exit codes, one-line errors and the JSON keys scripts rely on.
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "meshes.hpp"
+#include "sdmesh/io.hpp"
+#include "sdmesh/shapes.hpp"
+
+namespace sdmesh {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+    int code = -1;
+    std::string out, err;
+};
+
+Outcome run(const std::string& arguments) {
+    const fs::path err_file = fs::temp_directory_path() / ("sdmesh_cli_test_" + std::to_string(::getpid()) + ".err");
+    const std::string command = std::string(SDMESH_CLI) + " " + arguments + " 2>" + err_file.string();
+    Outcome result;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    char buffer[4096];
+    for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) result.out.append(buffer, n);
+    const int status = ::pclose(pipe);
+    result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream err(err_file);
+    std::stringstream ss;
+    ss << err.rdbuf();
+    result.err = ss.str();
+    fs::remove(err_file);
+    return result;
+}
+
+class Cli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("sdmesh_cli_" + std::to_string(::getpid()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    std::string write_text(const std::string& name, const std::string& text) const {
+        std::ofstream(path(name)) << text;
+        return path(name);
+    }
+    fs::path dir_;
+};
+
+const std::string kBunny = std::string(SDMESH_TEST_DATA_DIR) + "/bunny.obj";
+
+TEST_F(Cli, CheckJsonHasTheDocumentedKeys) {
+    const Outcome r = run("check " + kBunny + " --json");
+    EXPECT_EQ(r.code, 1) << r.err;  // the bunny has non-Delaunay edges
+    for (const char* key :
+         {"vertices", "faces", "edges", "components", "boundary_edges", "boundary_loops", "nonmanifold_edges",
+          "nonmanifold_vertices", "degenerate_faces", "euler_characteristic", "interior_edges",
+          "non_delaunay_edges", "boundary_obtuse_edges", "min_delaunay_margin", "negative_dual_cells",
+          "negative_cotan_weights", "gabriel_violations", "self_delaunay"})
+        EXPECT_NE(r.out.find("\"" + std::string(key) + "\": "), std::string::npos) << key;
+    EXPECT_NE(r.out.find("\"faces\": 3674"), std::string::npos);
+    EXPECT_NE(r.out.find("\"self_delaunay\": false"), std::string::npos);
+}
+
+TEST_F(Cli, SelfDelaunayMeshExitsZero) {
+    write_mesh(path("sphere.off"), make_icosphere(2));
+    const Outcome r = run("check " + path("sphere.off"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("self-Delaunay"), std::string::npos);
+    EXPECT_EQ(run("info " + path("sphere.off")).code, 0);
+}
+
+TEST_F(Cli, BoundaryPolicyChangesTheVerdict) {
+    write_mesh(path("obtuse.obj"), test::make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.1, 0}}, {{0, 1, 2}}));
+    EXPECT_EQ(run("check " + path("obtuse.obj")).code, 1);
+    EXPECT_EQ(run("check " + path("obtuse.obj") + " --boundary free").code, 0);
+}
+
+TEST_F(Cli, NonManifoldMeshIsReportedNotRejected) {
+    const std::string fin = write_text("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
+    const Outcome r = run("check " + fin + " --json");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.out.find("\"nonmanifold_edges\": 1"), std::string::npos);
+    EXPECT_NE(r.err.find("edge (0, 1) has more than two faces"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, ErrorsHaveDistinctExitCodesAndOneLine) {
+    auto expect_error = [](const std::string& arguments, int code, const std::string& mention) {
+        const Outcome r = run(arguments);
+        EXPECT_EQ(r.code, code) << arguments << "\n" << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << arguments << "\n" << r.err;
+        EXPECT_NE(r.err.find(mention), std::string::npos) << arguments << "\n" << r.err;
+        EXPECT_TRUE(r.out.empty()) << arguments;
+    };
+    expect_error("check " + path("missing.obj"), 3, "missing.obj");
+    expect_error("check " + write_text("mesh.xyz", "1 2 3\n"), 4, "mesh.xyz");
+    expect_error("check " + write_text("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"), 5, "bad.obj");
+    expect_error("check " + write_text("nan.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), 6, "vertex 0");
+    expect_error("check " + kBunny + " --boundary sideways", 2, "--boundary");
+    expect_error("check", 2, "usage");
+    expect_error("check " + kBunny + " --frobnicate", 2, "--frobnicate");
+    expect_error("transmogrify " + kBunny, 2, "transmogrify");
+}
+
+}  // namespace
+}  // namespace sdmesh

@@ -1,0 +1,164 @@
+// The Delaunay certificate on meshes made in code.
+
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "meshes.hpp"
+#include "sdmesh/delaunay.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/geometry.hpp"
+#include "sdmesh/shapes.hpp"
+
+namespace sdmesh {
+namespace {
+
+using test::make_mesh;
+constexpr double kPi = std::numbers::pi;
+
+int edge_index(const TriangleMesh& mesh, int a, int b) {
+    const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
+    for (int e = 0; e < edges.num_edges(); ++e)
+        if (edges.E(e, 0) == std::min(a, b) && edges.E(e, 1) == std::max(a, b)) return e;
+    return -1;
+}
+
+class Icosphere : public ::testing::TestWithParam<int> {};
+
+TEST_P(Icosphere, IsSelfDelaunayWithPositiveDualCells) {
+    const TriangleMesh mesh = make_icosphere(GetParam());
+    const DelaunayCertificate cert = certify(mesh);
+    EXPECT_TRUE(cert.self_delaunay);
+    EXPECT_EQ(cert.non_delaunay_edges, 0);
+    EXPECT_EQ(cert.boundary_edges, 0);
+    EXPECT_EQ(cert.interior_edges, 3 * mesh.num_faces() / 2);
+    EXPECT_GT(cert.min_delaunay_margin, 0.0);
+    EXPECT_EQ(cert.negative_dual_cells, 0);
+    EXPECT_EQ(cert.negative_cotan_weights, 0);
+    EXPECT_GT(cert.dual_area.minCoeff(), 0.0);
+    // The dual cells tile the surface.
+    EXPECT_NEAR(cert.dual_area.sum(), test::total_area(mesh), 1e-12 * test::total_area(mesh));
+}
+
+INSTANTIATE_TEST_SUITE_P(Levels, Icosphere, ::testing::Values(0, 1, 2, 3, 4));
+
+// Two triangles on the edge p = (0,0,0), q = (1,0,0), apexes at height 0.2 on both sides:
+// each opposite angle is 2·atan(0.5 / 0.2), so the edge is not locally Delaunay. Rotating the
+// second triangle about pq (folding the hinge) must not change the intrinsic margin.
+TEST(Certificate, FlatHingeHasTheExpectedMargin) {
+    const double expected = kPi - 4 * std::atan(0.5 / 0.2);
+    for (double fold : {0.0, 0.5, 2.0}) {
+        const Eigen::Vector3d s = Eigen::AngleAxisd(fold, Eigen::Vector3d::UnitX()) * Eigen::Vector3d(0.5, -0.2, 0);
+        const TriangleMesh hinge = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.2, 0}, s.transpose()},
+                                             {{0, 1, 2}, {1, 0, 3}});
+        const DelaunayCertificate cert = certify(hinge);
+        EXPECT_EQ(cert.interior_edges, 1);
+        EXPECT_EQ(cert.non_delaunay_edges, 1);
+        EXPECT_EQ(cert.boundary_edges, 4);
+        EXPECT_EQ(cert.boundary_obtuse_edges, 0);
+        EXPECT_FALSE(cert.self_delaunay);
+        EXPECT_NEAR(cert.edge_margin[edge_index(hinge, 0, 1)], expected, 1e-14) << "fold " << fold;
+        EXPECT_NEAR(cert.min_delaunay_margin, expected, 1e-14);
+        EXPECT_EQ(cert.worst_edge, edge_index(hinge, 0, 1));
+        EXPECT_EQ(cert.negative_cotan_weights, 1);
+        if (fold == 0.0) {
+            EXPECT_EQ(cert.gabriel_violations, 1);  // s inside the circumcircle of pqr
+        }
+    }
+}
+
+TEST(Certificate, BoundaryPolicies) {
+    // One triangle with an obtuse angle (at vertex 2) opposite the boundary edge (0, 1).
+    const TriangleMesh obtuse = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.1, 0}}, {{0, 1, 2}});
+    const DelaunayCertificate strict = certify(obtuse);
+    EXPECT_EQ(strict.boundary_obtuse_edges, 1);
+    EXPECT_FALSE(strict.self_delaunay);
+    const DelaunayCertificate free = certify(obtuse, {.boundary = BoundaryPolicy::free});
+    EXPECT_EQ(free.boundary_obtuse_edges, 1);
+    EXPECT_EQ(free.negative_cotan_weights, 1);
+    EXPECT_TRUE(free.self_delaunay);
+    EXPECT_NEAR(strict.edge_margin[edge_index(obtuse, 0, 1)], kPi / 2 - 2 * std::atan(0.5 / 0.1), 1e-14);
+}
+
+// Signed area of the circumcentric dual cell of vertex 0 in a planar fan, by geometry:
+// the sum over its triangles of the signed quadrilaterals (v, mid(v,a), circumcentre, mid(v,b)).
+double dual_area_by_circumcenters(const TriangleMesh& fan) {
+    auto cross2 = [](const Eigen::Vector2d& u, const Eigen::Vector2d& w) { return u.x() * w.y() - u.y() * w.x(); };
+    double area = 0;
+    for (int f = 0; f < fan.num_faces(); ++f) {
+        const Eigen::Vector2d v = fan.V.row(fan.F(f, 0)).head<2>(), a = fan.V.row(fan.F(f, 1)).head<2>(),
+                              b = fan.V.row(fan.F(f, 2)).head<2>();
+        const Eigen::Vector3d c3 = circumcenter(fan.V.row(fan.F(f, 0)), fan.V.row(fan.F(f, 1)), fan.V.row(fan.F(f, 2)));
+        const Eigen::Vector2d c = c3.head<2>(), ma = (v + a) / 2, mb = (v + b) / 2;
+        area += 0.5 * (cross2(ma - v, c - v) + cross2(c - v, mb - v));
+    }
+    return area;
+}
+
+TEST(Certificate, NegativeDualCellIsReported) {
+    const TriangleMesh fan = test::make_negative_dual_fan();
+    const DelaunayCertificate cert = certify(fan, {.boundary = BoundaryPolicy::free});
+    const double expected = dual_area_by_circumcenters(fan);
+    ASSERT_LT(expected, 0.0);
+    EXPECT_NEAR(cert.dual_area[0], expected, 1e-14);
+    EXPECT_GE(cert.negative_dual_cells, 1);
+    EXPECT_GT(cert.non_delaunay_edges, 0);
+    EXPECT_FALSE(cert.self_delaunay);
+    EXPECT_NEAR(cert.dual_area.sum(), test::total_area(fan), 1e-14);
+}
+
+TEST(Certificate, VerdictsAreScaleInvariant) {
+    for (const TriangleMesh& base : {make_grid(6, 5, 1.0, 1.0, 1.7), test::make_negative_dual_fan(), make_icosphere(2)}) {
+        const DelaunayCertificate reference = certify(base);
+        for (double scale : {1e8, 1e-8}) {
+            TriangleMesh scaled = base;
+            scaled.V *= scale;
+            const DelaunayCertificate cert = certify(scaled);
+            EXPECT_EQ(cert.non_delaunay_edges, reference.non_delaunay_edges);
+            EXPECT_EQ(cert.boundary_obtuse_edges, reference.boundary_obtuse_edges);
+            EXPECT_EQ(cert.negative_dual_cells, reference.negative_dual_cells);
+            EXPECT_EQ(cert.gabriel_violations, reference.gabriel_violations);
+            EXPECT_EQ(cert.self_delaunay, reference.self_delaunay);
+            EXPECT_NEAR(cert.min_delaunay_margin, reference.min_delaunay_margin, 1e-13);
+        }
+    }
+}
+
+TEST(Certificate, SkewedGridIsNotDelaunay) {
+    // Shearing the grid makes the diagonals (i,j)-(i+1,j+1) long: every interior one flips sides.
+    const DelaunayCertificate straight = certify(make_grid(4, 4));
+    EXPECT_TRUE(straight.self_delaunay);  // right triangles: co-circular, margin 0 within tolerance
+    const TriangleMesh grid = make_grid(4, 4, 1.0, 1.0, 1.5);
+    const DelaunayCertificate skewed = certify(grid);
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            const int diagonal = edge_index(grid, j * 5 + i, (j + 1) * 5 + i + 1);
+            EXPECT_LT(skewed.edge_margin[diagonal], -0.1) << "quad " << i << ", " << j;
+        }
+    EXPECT_GE(skewed.non_delaunay_edges, 16);
+}
+
+TEST(Certificate, NonManifoldPartsAreCountedNotJudged) {
+    // Three triangles on edge (0, 1).
+    const TriangleMesh fin = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}},
+                                       {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+    const DelaunayCertificate cert = certify(fin);
+    EXPECT_EQ(cert.nonmanifold_edges, 1);
+    EXPECT_TRUE(std::isnan(cert.edge_margin[edge_index(fin, 0, 1)]));
+    EXPECT_FALSE(cert.self_delaunay);
+}
+
+TEST(Certificate, RejectsNonFiniteCoordinatesAndBadIndices) {
+    TriangleMesh mesh = make_icosphere(0);
+    mesh.V(3, 1) = std::nan("");
+    EXPECT_THROW(certify(mesh), InvalidMeshError);
+    mesh = make_icosphere(0);
+    mesh.F(5, 2) = 12;
+    EXPECT_THROW(certify(mesh), InvalidMeshError);
+    EXPECT_THROW(certify(make_icosphere(0), {.tolerance = -1}), InvalidArgumentError);
+}
+
+}  // namespace
+}  // namespace sdmesh

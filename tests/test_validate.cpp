@@ -1,0 +1,201 @@
+// Edge table, validation counts and repairs on meshes made in code.
+
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "meshes.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/shapes.hpp"
+#include "sdmesh/validate.hpp"
+
+namespace sdmesh {
+namespace {
+
+using test::make_mesh;
+
+TEST(EdgeTable, LexicographicWithFaceIncidence) {
+    const TriangleMesh quad = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}});
+    const EdgeTable edges = build_edge_table(quad.F, 4);
+    Eigen::MatrixX2i expected(5, 2);
+    expected << 0, 1, 0, 2, 0, 3, 1, 2, 2, 3;
+    EXPECT_EQ(edges.E, expected);
+    EXPECT_EQ(edges.face_count, (std::vector<int>{1, 2, 1, 1, 1}));
+    // face_edge(f, k) is opposite corner k.
+    for (int f = 0; f < 2; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const int e = edges.face_edge(f, k);
+            const int a = quad.F(f, (k + 1) % 3), b = quad.F(f, (k + 2) % 3);
+            EXPECT_EQ(edges.E(e, 0), std::min(a, b));
+            EXPECT_EQ(edges.E(e, 1), std::max(a, b));
+        }
+    EXPECT_EQ(edges.edge_halfedges(1, 0), 3 * 0 + 1);  // diagonal (0,2): opposite corner 1 of face 0
+    EXPECT_EQ(edges.edge_halfedges(1, 1), 3 * 1 + 2);  // and corner 2 of face 1
+}
+
+TEST(Validate, ClosedSurfacesHaveTheirGenus) {
+    const MeshInfo sphere = validate(make_icosphere(2));
+    EXPECT_EQ(sphere.vertices, 162);
+    EXPECT_EQ(sphere.faces, 320);
+    EXPECT_EQ(sphere.edges, 480);
+    EXPECT_EQ(sphere.euler_characteristic, 2);
+    EXPECT_EQ(sphere.genus, 0);
+    EXPECT_EQ(sphere.components, 1);
+    EXPECT_EQ(sphere.boundary_loops, 0);
+    EXPECT_TRUE(sphere.manifold());
+    EXPECT_TRUE(sphere.orientable);
+    EXPECT_EQ(sphere.orientation_conflicts, 0);
+
+    // A torus: a cylinder whose top ring is glued to its bottom ring.
+    TriangleMesh torus = make_cylinder(8, 6);
+    for (int f = 0; f < torus.num_faces(); ++f)
+        for (int k = 0; k < 3; ++k)
+            if (torus.F(f, k) >= 6 * 8) torus.F(f, k) -= 6 * 8;
+    const MeshInfo info = validate(torus);
+    EXPECT_EQ(info.unreferenced_vertices, 8);
+    EXPECT_EQ(info.euler_characteristic, 0);
+    EXPECT_EQ(info.genus, 1);
+    EXPECT_EQ(info.boundary_edges, 0);
+}
+
+TEST(Validate, BoundaryLoopsAndComponents) {
+    const MeshInfo cylinder = validate(make_cylinder(10, 3));
+    EXPECT_EQ(cylinder.boundary_loops, 2);
+    EXPECT_EQ(cylinder.boundary_edges, 20);
+    EXPECT_EQ(cylinder.genus, 0);
+
+    // Two disjoint grids.
+    TriangleMesh a = make_grid(3, 3), two;
+    two.V.resize(2 * a.num_vertices(), 3);
+    two.V << a.V, a.V.rowwise() + Eigen::RowVector3d(5, 0, 0);
+    two.F.resize(2 * a.num_faces(), 3);
+    two.F << a.F, a.F.array() + a.num_vertices();
+    const MeshInfo info = validate(two);
+    EXPECT_EQ(info.components, 2);
+    EXPECT_EQ(info.boundary_loops, 2);
+    EXPECT_EQ(info.euler_characteristic, 2);
+    EXPECT_EQ(info.genus, 0);
+}
+
+TEST(Validate, NonManifoldEdgeAndBowTie) {
+    const TriangleMesh fin = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}},
+                                       {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+    const MeshInfo a = validate(fin);
+    EXPECT_EQ(a.nonmanifold_edges, 1);
+    EXPECT_EQ(a.first_nonmanifold_edge, Eigen::Vector2i(0, 1));
+    EXPECT_EQ(a.nonmanifold_vertices, 2);  // both ends of the fin edge have three fans
+    EXPECT_EQ(a.genus, -1);
+    EXPECT_THROW(require_manifold(a, "test"), InvalidMeshError);
+
+    // Two triangles touching at vertex 0 only.
+    const TriangleMesh bowtie = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}},
+                                          {{0, 1, 2}, {0, 3, 4}});
+    const MeshInfo b = validate(bowtie);
+    EXPECT_EQ(b.nonmanifold_edges, 0);
+    EXPECT_EQ(b.nonmanifold_vertices, 1);
+    EXPECT_EQ(b.first_nonmanifold_vertex, 0);
+    EXPECT_EQ(b.components, 1);
+    EXPECT_FALSE(b.manifold());
+}
+
+TEST(Validate, MoebiusStripIsNotOrientable) {
+    // A strip of 6 quads whose ends are glued with a half twist.
+    const int n = 6;
+    TriangleMesh strip;
+    strip.V.resize(2 * n, 3);
+    for (int i = 0; i < n; ++i) {
+        const double t = 2 * std::numbers::pi * i / n;
+        for (int side = 0; side < 2; ++side) {
+            const double w = side ? 0.3 : -0.3;
+            strip.V.row(2 * i + side) << (1 + w * std::cos(t / 2)) * std::cos(t),
+                (1 + w * std::cos(t / 2)) * std::sin(t), w * std::sin(t / 2);
+        }
+    }
+    strip.F.resize(2 * n, 3);
+    for (int i = 0; i < n; ++i) {
+        int a = 2 * i, b = 2 * i + 1, c = 2 * (i + 1) + 1, d = 2 * (i + 1);
+        if (i == n - 1) c = 0, d = 1;  // the half twist swaps the sides
+        strip.F.row(2 * i) << a, d, c;
+        strip.F.row(2 * i + 1) << a, c, b;
+    }
+    const MeshInfo info = validate(strip);
+    EXPECT_TRUE(info.manifold());
+    EXPECT_FALSE(info.orientable);
+    EXPECT_EQ(info.genus, -1);
+    EXPECT_EQ(info.boundary_loops, 1);
+    RepairReport report;
+    repair(strip, {}, &report);
+    EXPECT_EQ(report.non_orientable_components, 1);
+    EXPECT_EQ(report.flipped_faces, 0);
+}
+
+TEST(Validate, DefectsAreCounted) {
+    TriangleMesh mesh = make_mesh(
+        {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 0}, {2, 2, 0}, {std::nan(""), 0, 0}, {0.5, 0.5, 0}},
+        {{0, 1, 2}, {1, 3, 2}, {2, 1, 0}, {4, 1, 1}, {0, 3, 7}});
+    const MeshInfo info = validate(mesh);
+    EXPECT_EQ(info.repeated_index_faces, 1);       // face 3
+    EXPECT_EQ(info.first_repeated_index_face, 3);
+    EXPECT_EQ(info.duplicate_faces, 1);            // face 2 repeats face 0
+    EXPECT_EQ(info.zero_area_faces, 1);            // face 4 is collinear
+    EXPECT_EQ(info.degenerate_faces, 2);
+    EXPECT_EQ(info.duplicate_vertex_positions, 1); // vertex 4 sits on vertex 0
+    EXPECT_EQ(info.unreferenced_vertices, 2);      // 5 and 6
+    EXPECT_EQ(info.non_finite_vertices, 1);
+    EXPECT_EQ(info.first_non_finite_vertex, 6);
+    EXPECT_EQ(info.nonmanifold_edges, 1);          // (1, 2) lies in faces 0, 1 and 2
+    EXPECT_EQ(info.orientation_conflicts, 0);      // face 2 is face 0 reversed: consistent
+    EXPECT_THROW(require_manifold(info, "test"), InvalidMeshError);
+}
+
+TEST(Validate, IndexOutOfRangeThrows) {
+    TriangleMesh mesh = make_icosphere(0);
+    mesh.F(0, 0) = -1;
+    EXPECT_THROW(validate(mesh), InvalidMeshError);
+    EXPECT_THROW(repair(mesh), InvalidMeshError);
+}
+
+TEST(Repair, RestoresAValidMesh) {
+    // An icosphere written as a triangle soup with duplicated vertices, a duplicate face,
+    // a repeated-index face, an unreferenced vertex and a third of the faces re-wound.
+    const TriangleMesh sphere = make_icosphere(1);
+    TriangleMesh soup;
+    soup.V.resize(3 * sphere.num_faces() + 1, 3);
+    soup.F.resize(sphere.num_faces() + 2, 3);
+    for (int f = 0; f < sphere.num_faces(); ++f) {
+        for (int k = 0; k < 3; ++k) soup.V.row(3 * f + k) = sphere.V.row(sphere.F(f, k));
+        soup.F.row(f) << 3 * f, 3 * f + 1, 3 * f + 2;
+        if (f % 3 == 1) std::swap(soup.F(f, 1), soup.F(f, 2));  // re-wound
+    }
+    soup.V.row(3 * sphere.num_faces()) << 7, 7, 7;
+    soup.F.row(sphere.num_faces()) = soup.F.row(0);
+    soup.F.row(sphere.num_faces() + 1) << 0, 0, 1;
+
+    int rewound = 0;
+    for (int f = 1; f < sphere.num_faces(); f += 3) ++rewound;
+    RepairReport report;
+    const TriangleMesh repaired = repair(soup, {}, &report);
+    EXPECT_EQ(report.merged_vertices, 3 * sphere.num_faces() - sphere.num_vertices());
+    EXPECT_EQ(report.dropped_repeated_index_faces, 1);
+    EXPECT_EQ(report.dropped_duplicate_faces, 1);
+    EXPECT_EQ(report.flipped_faces, rewound);  // face 0 keeps its orientation
+    EXPECT_EQ(repaired.num_vertices(), sphere.num_vertices());
+    EXPECT_EQ(repaired.num_faces(), sphere.num_faces());
+    const MeshInfo info = validate(repaired);
+    EXPECT_TRUE(info.manifold());
+    EXPECT_EQ(info.orientation_conflicts, 0);
+    EXPECT_EQ(info.genus, 0);
+    EXPECT_EQ(info.duplicate_vertex_positions, 0);
+    EXPECT_EQ(info.unreferenced_vertices, 0);
+    // Outward orientation is kept: positive signed volume.
+    double volume = 0;
+    for (int f = 0; f < repaired.num_faces(); ++f)
+        volume += repaired.V.row(repaired.F(f, 0)).dot(
+            repaired.V.row(repaired.F(f, 1)).cross(repaired.V.row(repaired.F(f, 2))));
+    EXPECT_GT(volume, 0);
+}
+
+}  // namespace
+}  // namespace sdmesh
