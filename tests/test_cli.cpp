@@ -69,7 +69,7 @@ TEST_F(Cli, CheckJsonHasTheDocumentedKeys) {
           "nonmanifold_vertices", "degenerate_faces", "euler_characteristic", "interior_edges",
           "non_delaunay_edges", "boundary_obtuse_edges", "min_delaunay_margin", "negative_dual_cells",
           "negative_cotan_weights", "gabriel_violations", "self_delaunay"})
-        EXPECT_NE(r.out.find("\"" + std::string(key) + "\": "), std::string::npos) << key;
+        EXPECT_NE(r.out.find(std::string(1, '"').append(key).append("\": ")), std::string::npos) << key;
     EXPECT_NE(r.out.find("\"faces\": 3674"), std::string::npos);
     EXPECT_NE(r.out.find("\"self_delaunay\": false"), std::string::npos);
 }
@@ -94,6 +94,20 @@ TEST_F(Cli, NonManifoldMeshIsReportedNotRejected) {
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("\"nonmanifold_edges\": 1"), std::string::npos);
     EXPECT_NE(r.err.find("edge (0, 1) has more than two faces"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, RepairWeldsAndOrientsASoup) {
+    // Two triangles of a square written as a soup, the second one wound the other way.
+    const std::string soup = write_text("soup.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\n"
+                                                    "f 1 2 3\nf 4 6 5\nf 4 6 6\n");
+    const Outcome r = run("repair " + soup + " " + path("fixed.off"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("\"merged_vertices\": 2"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\"flipped_faces\": 1"), std::string::npos) << r.out;
+    const TriangleMesh fixed = read_mesh(path("fixed.off"));
+    EXPECT_EQ(fixed.num_vertices(), 4);
+    EXPECT_EQ(fixed.num_faces(), 2);
+    EXPECT_EQ(run("check " + path("fixed.off") + " --json").code, 0);  // two right triangles
 }
 
 TEST_F(Cli, ErrorsHaveDistinctExitCodesAndOneLine) {

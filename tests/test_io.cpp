@@ -557,6 +557,8 @@ TEST(Obj, MalformedInputIsParseErrorWithFileAndLine) {
     expect_parse_error("\n\nv 1.2.3 0 0\n", MeshFormat::obj, "test:3:", "'1.2.3'");
     expect_parse_error("v 1 2 3e\n", MeshFormat::obj, "test:1:");
     expect_parse_error("v 1 2 0x10\n", MeshFormat::obj, "test:1:");
+    expect_parse_error("v +-1 0 0\n", MeshFormat::obj, "test:1:", "'+-1'");
+    expect_parse_error(triangle + "f 1 2 +-3\n", MeshFormat::obj, "test:4:");
     expect_parse_error("v 1e999 0 0\n", MeshFormat::obj, "test:1:", "range");
     expect_parse_error("v -1e999 0 0\n", MeshFormat::obj, "test:1:", "range");
 }
@@ -858,7 +860,7 @@ std::string ascii_stl(const std::vector<std::array<float, 9>>& facets) {
     out << "solid cube\n";
     for (const auto& f : facets) {
         out << "  facet normal 0 0 0\n    outer loop\n";
-        for (int k = 0; k < 3; ++k) out << "      vertex " << f[3 * k] << ' ' << f[3 * k + 1] << ' ' << f[3 * k + 2] << '\n';
+        for (std::size_t k = 0; k < 3; ++k) out << "      vertex " << f[3 * k] << ' ' << f[3 * k + 1] << ' ' << f[3 * k + 2] << '\n';
         out << "    endloop\n  endfacet\n";
     }
     out << "endsolid cube\n";

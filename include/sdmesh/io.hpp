@@ -32,6 +32,21 @@ struct ReadReport {
 };
 
 /// Reads a mesh file.
+///
+/// What is accepted, beyond the plain formats:
+/// - OBJ: `v x y z [w]` (w and vertex colors ignored), `f`/`fo` with corners `v`, `v/vt`, `v//vn`,
+///   `v/vt/vn`; negative indices are relative to the vertices defined so far; a positive index may
+///   refer to a vertex defined further down. Other keywords, comments, CRLF and backslash line
+///   continuations are fine.
+/// - OFF: [ST][C][N]OFF, counts on the keyword line or the next one, `#` comments and blank lines
+///   anywhere, extra values (colors, normals) after vertices and faces ignored.
+/// - PLY: any element order, all property types, other elements and properties (lists too)
+///   skipped; faces from the `face` element's `vertex_indices` or `vertex_index` list.
+///   Triangle strips (`tristrips`) are an UnsupportedFormatError rather than silently dropped.
+/// - STL: binary when the size is exactly 84 + 50 n, else ascii if it starts with "solid".
+/// Non-finite coordinates (nan, inf) are read as they are; values outside the double range
+/// (1e999) are a ParseError. An empty or all-blank file is a ParseError.
+///
 /// \throws IoError the file cannot be opened or read.
 /// \throws UnsupportedFormatError unknown extension, or a header variant that is not supported.
 /// \throws ParseError malformed content; the message names the file and the line (text formats)
@@ -57,7 +72,10 @@ struct WriteOptions {
     bool ply_ascii = false;
 };
 
-/// Writes a mesh: OBJ, OFF or PLY (STL is read-only), chosen by extension, ".gz" compresses.
+/// Writes a mesh: OBJ, OFF or PLY (STL is read-only), chosen by extension, ".gz" compresses
+/// (zlib level 1: several times faster than the default level for files a few percent larger).
+/// PLY is binary little endian unless `ply_ascii`: `double x y z`, then one `double` property per
+/// vertex field, and faces as `property list uchar int vertex_indices`.
 /// The data go to a temporary file in the same folder which is renamed over `path` at the end,
 /// so a failed or interrupted write never leaves a partial file under `path`.
 /// \throws UnsupportedFormatError unknown or read-only extension.

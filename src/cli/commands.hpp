@@ -22,5 +22,6 @@ enum ExitCode : int {
 
 int run_info(Args& args);
 int run_check(Args& args);
+int run_repair(Args& args);
 
 }  // namespace sdmesh::cli

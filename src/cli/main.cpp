@@ -20,7 +20,8 @@ Commands:
   info MESH                       topology and defects of a mesh, human-readable
   check MESH [--json] [--boundary strict|free] [--tolerance RAD]
                                   Delaunay certificate; exit 0 if self-Delaunay, 1 if not
-                                  L, M, d0, d1, star0/1/2 as Matrix Market files and report.json in DIR
+  repair IN OUT [--keep-...]      merge coincident vertices, drop repeated-index and duplicate
+                                  faces, orient consistently, drop unreferenced vertices
 
 Mesh files: .obj .off .ply .stl, each optionally .gz.
 Exit codes: 0 ok, 1 not self-Delaunay, 2 usage, 3 I/O error, 4 unsupported format,
@@ -36,6 +37,7 @@ struct Command {
 constexpr Command kCommands[] = {
     {"info", run_info},
     {"check", run_check},
+    {"repair", run_repair},
 };
 
 int fail(int code, const std::string& message) {

@@ -22,12 +22,13 @@ enum class ByteOrder { little, big };
 template <class U>
 U byteswap(U value) {
     static_assert(std::is_unsigned_v<U>);
-    U result = 0;
+    std::uint64_t in = value;  // wide, so that the shifts need no integer promotion
+    std::uint64_t out = 0;
     for (std::size_t i = 0; i < sizeof(U); ++i) {
-        result = static_cast<U>((result << 8) | (value & 0xFFu));
-        value = static_cast<U>(value >> 8);
+        out = (out << 8) | (in & 0xFFu);
+        in >>= 8;
     }
-    return result;
+    return static_cast<U>(out);
 }
 
 /// The unsigned integer type as wide as T (the carrier for byte swapping).

@@ -72,13 +72,14 @@ namespace {
 }
 }  // namespace
 
-OutputFile::OutputFile(const std::filesystem::path& path, bool gzip) : path_(path.string()) {
+OutputFile::OutputFile(const std::filesystem::path& path, bool gzip, std::string name_for_errors)
+    : name_(name_for_errors.empty() ? path.string() : std::move(name_for_errors)) {
     if (gzip) gzip_ = std::make_unique<GzipEncoder>();
     buffer_.reserve(kFlushSize + 64);
     // Opened last, so that a throwing constructor leaves no file behind. "x": fail rather than
     // clobber anything that is already there under this name.
-    file_ = std::fopen(path_.c_str(), "wbx");
-    if (file_ == nullptr) throw_io(path_, "cannot create file", errno);
+    file_ = std::fopen(path.c_str(), "wbx");
+    if (file_ == nullptr) throw_io(name_, "cannot create file", errno);
 }
 
 OutputFile::~OutputFile() {
@@ -87,7 +88,7 @@ OutputFile::~OutputFile() {
 
 void OutputFile::write_raw(std::string_view bytes) {
     if (std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size()) {
-        throw_io(path_, "write failed", errno);
+        throw_io(name_, "write failed", errno);
     }
 }
 
@@ -105,7 +106,36 @@ void OutputFile::flush(bool finish) {
 void OutputFile::close() {
     flush(true);
     std::FILE* file = std::exchange(file_, nullptr);
-    if (std::fclose(file) != 0) throw_io(path_, "write failed", errno);
+    if (std::fclose(file) != 0) throw_io(name_, "write failed", errno);
+}
+
+namespace {
+// A name that no other writer (thread or process) uses at the same time.
+std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
+    static std::atomic<unsigned long> counter{0};
+    std::filesystem::path temporary = path;
+    temporary += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    return temporary;
+}
+}  // namespace
+
+void write_atomically(const std::filesystem::path& path, bool gzip,
+                      const std::function<void(OutputFile&)>& write) {
+    const std::filesystem::path temporary = temporary_path_for(path);
+    OutputFile out(temporary, gzip, path.string());  // on failure nothing has been created
+    try {
+        write(out);
+        out.close();
+        std::error_code ec;
+        std::filesystem::rename(temporary, path, ec);
+        if (ec) {
+            throw IoError(path.string() + ": cannot rename the temporary file over it: " + ec.message());
+        }
+    } catch (...) {
+        std::error_code ignored;
+        std::filesystem::remove(temporary, ignored);
+        throw;
+    }
 }
 
 }  // namespace io
@@ -256,14 +286,6 @@ void check_writable(const std::string& name, MeshFormat format, const TriangleMe
     }
 }
 
-// A name in the target's folder that no other writer (thread or process) uses at the same time.
-std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
-    static std::atomic<unsigned long> counter{0};
-    std::filesystem::path temporary = path;
-    temporary += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-    return temporary;
-}
-
 }  // namespace
 
 void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh,
@@ -276,24 +298,14 @@ void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh,
     }
     check_writable(name, format, mesh, options);
 
-    const std::filesystem::path temporary = temporary_path_for(path);
-    io::OutputFile out(temporary, compressed);  // on failure nothing has been created
-    try {
+    io::write_atomically(path, compressed, [&](io::OutputFile& out) {
         switch (format) {
             case MeshFormat::obj: io::write_obj(mesh, out); break;
             case MeshFormat::off: io::write_off(mesh, out); break;
             case MeshFormat::ply: io::write_ply(mesh, options.vertex_fields, options.ply_ascii, out); break;
             case MeshFormat::stl: break;  // rejected above
         }
-        out.close();
-        std::error_code ec;
-        std::filesystem::rename(temporary, path, ec);
-        if (ec) throw IoError(name + ": cannot rename the temporary file over it: " + ec.message());
-    } catch (...) {
-        std::error_code ignored;
-        std::filesystem::remove(temporary, ignored);
-        throw;
-    }
+    });
 }
 
 }  // namespace sdmesh

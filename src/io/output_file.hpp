@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -18,8 +19,9 @@ namespace sdmesh::io {
 
 class OutputFile {
 public:
-    /// Creates `path`, which must not exist yet. \throws IoError
-    OutputFile(const std::filesystem::path& path, bool gzip);
+    /// Creates `path`, which must not exist yet. Errors name `name_for_errors` if given (the
+    /// target of a temporary file), else `path`. \throws IoError
+    OutputFile(const std::filesystem::path& path, bool gzip, std::string name_for_errors = {});
     /// Closes the file without reporting errors (the failure path; success calls close()).
     ~OutputFile();
     OutputFile(const OutputFile&) = delete;
@@ -59,11 +61,18 @@ private:
     void flush(bool finish);
     void write_raw(std::string_view bytes);
 
-    std::string path_;
+    std::string name_;  // for error messages
     std::FILE* file_ = nullptr;
     std::unique_ptr<GzipEncoder> gzip_;
     std::string buffer_;
     std::string compressed_;
 };
+
+/// Writes a file all at once or not at all: `write` fills an OutputFile on a temporary file in the
+/// same folder (so the rename cannot cross file systems), which is then renamed over `path`. On any
+/// failure the temporary is removed, `path` is left as it was and the exception propagates
+/// (IoError for file-system failures).
+void write_atomically(const std::filesystem::path& path, bool gzip,
+                      const std::function<void(OutputFile&)>& write);
 
 }  // namespace sdmesh::io

@@ -106,7 +106,7 @@ public:
     double parse_double(std::string_view tok) const {
         const char* first = tok.data();
         const char* last = first + tok.size();
-        if (first != last && *first == '+') ++first;  // from_chars rejects a leading '+'
+        first = skip_plus(first, last);
         double value = 0;
         auto [ptr, ec] = std::from_chars(first, last, value);
         if (ec == std::errc::result_out_of_range) fail("number out of double range " + quoted(tok));
@@ -119,7 +119,7 @@ public:
     std::size_t parse_integer_prefix(std::string_view tok, long long& value) const {
         const char* first = tok.data();
         const char* last = first + tok.size();
-        if (first != last && *first == '+') ++first;
+        first = skip_plus(first, last);
         auto [ptr, ec] = std::from_chars(first, last, value);
         if (ec == std::errc::result_out_of_range) fail("integer out of range " + quoted(tok));
         if (ec != std::errc()) return 0;
@@ -139,6 +139,10 @@ public:
     }
 
 private:
+    // from_chars rejects a leading '+', which some writers emit; "+-1" stays an error.
+    static const char* skip_plus(const char* first, const char* last) {
+        return last - first >= 2 && first[0] == '+' && first[1] != '-' ? first + 1 : first;
+    }
     static bool is_blank(char c) {
         return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
     }

@@ -1,0 +1,55 @@
+// `sdmesh repair IN OUT`: the safe repairs of validate.hpp, none of which moves a vertex.
+
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "cli/json.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/io.hpp"
+#include "sdmesh/validate.hpp"
+
+namespace sdmesh::cli {
+
+int run_repair(Args& args) {
+    RepairOptions options;
+    options.merge_coincident_vertices = !args.flag("--keep-coincident");
+    options.drop_repeated_index_faces = !args.flag("--keep-repeated");
+    options.drop_duplicate_faces = !args.flag("--keep-duplicates");
+    options.orient = !args.flag("--keep-orientation");
+    options.drop_unreferenced_vertices = !args.flag("--keep-unreferenced");
+    const auto paths = args.positionals(
+        2, "sdmesh repair IN OUT [--keep-coincident] [--keep-repeated] [--keep-duplicates] "
+           "[--keep-orientation] [--keep-unreferenced]");
+
+    const TriangleMesh mesh = read_mesh(paths[0]);
+    RepairReport report;
+    TriangleMesh repaired;
+    MeshInfo info;
+    try {
+        repaired = repair(mesh, options, &report);
+        info = validate(repaired);
+    } catch (const InvalidMeshError& e) {
+        throw InvalidMeshError(paths[0] + ": " + e.what());
+    }
+    write_mesh(paths[1], repaired);
+
+    JsonObject out;
+    out.add("input", paths[0])
+        .add("output", paths[1])
+        .add("merged_vertices", report.merged_vertices)
+        .add("dropped_repeated_index_faces", report.dropped_repeated_index_faces)
+        .add("dropped_duplicate_faces", report.dropped_duplicate_faces)
+        .add("flipped_faces", report.flipped_faces)
+        .add("non_orientable_components", report.non_orientable_components)
+        .add("dropped_vertices", report.dropped_vertices)
+        .add("vertices", info.vertices)
+        .add("faces", info.faces)
+        .add("manifold", info.manifold())
+        .add("orientable", info.orientable);
+    std::cout << out.str() << '\n';
+    if (const std::string defect = first_defect(info); !defect.empty())
+        std::cerr << "sdmesh repair: " << paths[1] << " is still not a manifold: " << defect << '\n';
+    return kSuccess;
+}
+
+}  // namespace sdmesh::cli

@@ -1,0 +1,144 @@
+#include "halfedge.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace sdmesh {
+
+HalfedgeMesh::HalfedgeMesh(const Triangulation& t)
+    : num_vertices_(t.num_vertices),
+      corner_(3 * static_cast<size_t>(t.num_faces())),
+      twin_(corner_.size(), -1),
+      edge_(corner_.size()),
+      edge_halfedge_(static_cast<size_t>(t.num_edges())) {
+    for (int f = 0; f < t.num_faces(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            corner_[3 * f + k] = t.F(f, k);
+            edge_[3 * f + k] = t.face_edge(f, k);
+        }
+    for (int e = 0; e < t.num_edges(); ++e) {
+        const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
+        edge_halfedge_[e] = h0;
+        if (h1 >= 0) twin_[h0] = h1, twin_[h1] = h0;
+    }
+}
+
+void HalfedgeMesh::glue(int a, int b, int e) {
+    if (a >= 0) twin_[a] = b, edge_[a] = e;
+    if (b >= 0) twin_[b] = a, edge_[b] = e;
+    edge_halfedge_[e] = a >= 0 ? a : b;
+}
+
+void HalfedgeMesh::move_side(int from, int to) {
+    glue(to, twin_[from], edge_[from]);
+}
+
+int HalfedgeMesh::add_face(int a, int b, int c) {
+    corner_.insert(corner_.end(), {a, b, c});
+    twin_.insert(twin_.end(), {-1, -1, -1});
+    edge_.insert(edge_.end(), {-1, -1, -1});
+    return num_faces() - 1;
+}
+
+int HalfedgeMesh::add_edge() {
+    edge_halfedge_.push_back(-1);
+    return num_edges() - 1;
+}
+
+void HalfedgeMesh::flip(int e) {
+    const int h = edge_halfedge_[e], t = twin_[h];
+    const int f = face(h), g = face(t);
+    const int r = opposite_vertex(h), p = tail(h), q = head(h), s = opposite_vertex(t);
+    // The outer sides q->r, r->p (face f) and p->s, s->q (face g), and where they go: in (r, p, s)
+    // slot 0 is p->s and slot 2 is r->p; in (s, q, r) slot 0 is q->r and slot 2 is s->q.
+    const std::array<int, 4> from = {next(h), prev(h), next(t), prev(t)};
+    const std::array<int, 4> to = {3 * g, 3 * f + 2, 3 * f, 3 * g + 2};
+    std::array<int, 4> twin{}, edge{};
+    for (int i = 0; i < 4; ++i) {
+        twin[i] = twin_[from[i]];
+        edge[i] = edge_[from[i]];
+        // A Δ-complex may glue two outer sides of the pair to each other.
+        const auto inside = std::find(from.begin(), from.end(), twin[i]);
+        if (inside != from.end()) twin[i] = to[inside - from.begin()];
+    }
+    corner_[3 * f] = r, corner_[3 * f + 1] = p, corner_[3 * f + 2] = s;
+    corner_[3 * g] = s, corner_[3 * g + 1] = q, corner_[3 * g + 2] = r;
+    for (int i = 0; i < 4; ++i) glue(to[i], twin[i], edge[i]);
+    glue(3 * f + 1, 3 * g + 1, e);  // s->r in f, r->s in g
+}
+
+int HalfedgeMesh::split(int e) {
+    const int h = edge_halfedge_[e], t = twin_[h];
+    const int x = num_vertices_++;
+    const int other_half = add_edge();
+
+    // Face (r, p, q) of h becomes (r, p, x) in place plus the new face (r, x, q); the side q->r
+    // moves to the new face, and the spoke joins x and r.
+    const int f_new = add_face(opposite_vertex(h), x, head(h));
+    const int spoke_h = add_edge();
+    move_side(next(h), 3 * f_new + 1);
+    corner_[prev(h)] = x;
+    glue(next(h), 3 * f_new + 2, spoke_h);
+    if (t < 0) {
+        glue(3 * f_new, -1, other_half);  // boundary half x->q
+        return x;
+    }
+    // The twin's face (s, q, p) becomes (s, q, x) in place plus (s, x, p).
+    const int g_new = add_face(opposite_vertex(t), x, head(t));
+    const int spoke_t = add_edge();
+    move_side(next(t), 3 * g_new + 1);
+    corner_[prev(t)] = x;
+    glue(next(t), 3 * g_new + 2, spoke_t);
+    glue(h, 3 * g_new, e);           // p->x and x->p
+    glue(t, 3 * f_new, other_half);  // q->x and x->q
+    return x;
+}
+
+bool HalfedgeMesh::has_edge_between(int c, int v) const {
+    // Around the vertex of corner c: the face across the side leaving it (prev) holds the vertex
+    // at slot prev(twin); across the side entering it (next), at slot next(twin).
+    auto neighbours_contain = [&](int slot) { return corner_[next(slot)] == v || corner_[prev(slot)] == v; };
+    for (int slot = c;;) {
+        if (neighbours_contain(slot)) return true;
+        const int across = twin_[prev(slot)];
+        if (across < 0) break;
+        slot = prev(across);
+        if (slot == c) return false;  // closed fan
+    }
+    for (int slot = c;;) {
+        const int across = twin_[next(slot)];
+        if (across < 0) return false;
+        slot = next(across);
+        if (neighbours_contain(slot)) return true;
+    }
+}
+
+Triangulation HalfedgeMesh::to_triangulation(const Eigen::VectorXd& length) const {
+    Triangulation out;
+    out.num_vertices = num_vertices_;
+    out.F = faces();
+    const int nf = num_faces(), ne = num_edges();
+    out.E.resize(ne, 2);
+    out.edge_halfedges.resize(ne, 2);
+    for (int e = 0; e < ne; ++e) {
+        const int h = edge_halfedge_[e], t = twin_[h];
+        out.E.row(e) << std::min(tail(h), head(h)), std::max(tail(h), head(h));
+        out.edge_halfedges.row(e) << (t < 0 ? h : std::min(h, t)), (t < 0 ? -1 : std::max(h, t));
+    }
+    out.face_edge.resize(nf, 3);
+    out.face_edge_sign.resize(nf, 3);
+    for (int h = 0; h < 3 * nf; ++h) {
+        out.face_edge(h / 3, h % 3) = edge_[h];
+        out.face_edge_sign(h / 3, h % 3) = static_cast<signed char>(tail(h) == out.E(edge_[h], 0) ? 1 : -1);
+    }
+    out.length = length;
+    return out;
+}
+
+Eigen::MatrixX3i HalfedgeMesh::faces() const {
+    Eigen::MatrixX3i F(num_faces(), 3);
+    for (int f = 0; f < num_faces(); ++f) F.row(f) << corner_[3 * f], corner_[3 * f + 1], corner_[3 * f + 2];
+    return F;
+}
+
+}  // namespace sdmesh

@@ -1,0 +1,78 @@
+#pragma once
+// Mutable connectivity for edge flips and splits, shared by the conversion and intrinsic modules
+// (internal, not installed). Corner-table layout: face f owns halfedges 3f, 3f+1, 3f+2, and
+// halfedge 3f+k is the side OPPOSITE corner k, running from corner k+1 to corner k+2 — the
+// convention of topology.hpp and Triangulation. Twins are explicit, never looked up by vertex
+// pairs, so a Δ-complex (repeated edges, self-loops) is representable.
+
+#include <vector>
+
+#include "sdmesh/triangulation.hpp"
+
+namespace sdmesh {
+
+class HalfedgeMesh {
+public:
+    /// Connectivity of a Triangulation (which guarantees a manifold-edge face list); edge ids
+    /// and orientation are kept.
+    explicit HalfedgeMesh(const Triangulation& t);
+
+    [[nodiscard]] int num_vertices() const { return num_vertices_; }
+    [[nodiscard]] int num_faces() const { return static_cast<int>(corner_.size() / 3); }
+    [[nodiscard]] int num_edges() const { return static_cast<int>(edge_halfedge_.size()); }
+
+    // Navigation.
+    [[nodiscard]] static int face(int h) { return h / 3; }
+    [[nodiscard]] static int next(int h) { return h - h % 3 + (h % 3 + 1) % 3; }
+    [[nodiscard]] static int prev(int h) { return h - h % 3 + (h % 3 + 2) % 3; }
+    [[nodiscard]] int corner(int f, int k) const { return corner_[3 * f + k]; }
+    [[nodiscard]] int opposite_vertex(int h) const { return corner_[h]; }
+    [[nodiscard]] int tail(int h) const { return corner_[next(h)]; }
+    [[nodiscard]] int head(int h) const { return corner_[prev(h)]; }
+    [[nodiscard]] int twin(int h) const { return twin_[h]; }  ///< -1 on the boundary
+    [[nodiscard]] int edge(int h) const { return edge_[h]; }
+    [[nodiscard]] int halfedge(int e) const { return edge_halfedge_[e]; }  ///< one of its halfedges
+    [[nodiscard]] bool is_boundary_edge(int e) const { return twin_[edge_halfedge_[e]] < 0; }
+
+    /// Replaces the diagonal of the two faces on interior edge e: with h = halfedge(e) in face
+    /// (p, q, r) and its twin in (q, p, s), the faces become (r, p, s) and (s, q, r). The edge
+    /// keeps its id (now joining r and s); the four outer sides keep theirs. Faces keep their
+    /// ids; halfedge(e) is afterwards in the first face and runs s -> r.
+    /// \pre e is interior and its two faces are distinct.
+    void flip(int e);
+
+    /// Splits edge e by a new vertex x (id num_vertices() before the call), joined to the
+    /// opposite vertex of each face on e. Edge e keeps the half at halfedge(e)'s tail; the other
+    /// half, then the spoke(s) get new ids, appended in that order (interior edge: 2 faces and 3
+    /// edges added; boundary edge: 1 face and 2 edges).
+    /// \pre the faces on e are distinct and no two of their outer sides are glued together.
+    /// \returns the new vertex id.
+    int split(int e);
+
+    /// True if some edge joins the vertex at corner slot c (= 3f + k) to vertex v: the faces
+    /// around that corner are walked through their twins, both ways on a boundary.
+    [[nodiscard]] bool has_edge_between(int c, int v) const;
+
+    /// Writes the current faces and a per-edge array into a Triangulation (lengths are the
+    /// caller's, indexed by edge id); E(e,·) is ordered so that E(e,0) <= E(e,1).
+    [[nodiscard]] Triangulation to_triangulation(const Eigen::VectorXd& length) const;
+
+    /// The faces as an |F| x 3 array.
+    [[nodiscard]] Eigen::MatrixX3i faces() const;
+
+private:
+    // Makes a and b twins (either may be -1 for a boundary side) with edge id e.
+    void glue(int a, int b, int e);
+    // Gives slot `to` the twin and edge of slot `from`.
+    void move_side(int from, int to);
+    int add_face(int a, int b, int c);
+    int add_edge();
+
+    int num_vertices_ = 0;
+    std::vector<int> corner_;         // 3 per face
+    std::vector<int> twin_;           // per halfedge
+    std::vector<int> edge_;           // per halfedge
+    std::vector<int> edge_halfedge_;  // per edge
+};
+
+}  // namespace sdmesh

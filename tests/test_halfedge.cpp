@@ -1,0 +1,137 @@
+// The internal flip/split connectivity: every edit leaves a valid, consistently oriented
+// triangulation whose edge ids agree with the faces.
+
+#include <random>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "halfedge.hpp"
+#include "sdmesh/shapes.hpp"
+#include "sdmesh/validate.hpp"
+
+namespace sdmesh {
+namespace {
+
+// Lengths from positions for the current connectivity, then the full Triangulation check.
+Triangulation checked(const HalfedgeMesh& mesh, const Eigen::MatrixX3d& V) {
+    Eigen::VectorXd length(mesh.num_edges());
+    for (int e = 0; e < mesh.num_edges(); ++e) {
+        const int h = mesh.halfedge(e);
+        length[e] = (V.row(mesh.tail(h)) - V.row(mesh.head(h))).norm();
+    }
+    Triangulation t = mesh.to_triangulation(length);
+    t.check();
+    return t;
+}
+
+MeshInfo info_of(const HalfedgeMesh& mesh, const Eigen::MatrixX3d& V) {
+    return validate(TriangleMesh{V, mesh.faces()});
+}
+
+std::set<std::array<int, 3>> face_set(const Eigen::MatrixX3i& F) {
+    std::set<std::array<int, 3>> faces;
+    for (int f = 0; f < F.rows(); ++f) {
+        std::array<int, 3> key = {F(f, 0), F(f, 1), F(f, 2)};
+        std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());  // keeps orientation
+        faces.insert(key);
+    }
+    return faces;
+}
+
+TEST(HalfedgeMesh, RoundTripKeepsTheTriangulation) {
+    const TriangleMesh sphere = make_icosphere(1);
+    const Triangulation t = Triangulation::from_mesh(sphere);
+    const Triangulation back = checked(HalfedgeMesh(t), sphere.V);
+    EXPECT_EQ(back.F, t.F);
+    EXPECT_EQ(back.E, t.E);
+    EXPECT_EQ(back.face_edge, t.face_edge);
+    EXPECT_EQ(back.edge_halfedges, t.edge_halfedges);
+}
+
+TEST(HalfedgeMesh, FlipsKeepAValidOrientedSurface) {
+    const TriangleMesh sphere = make_icosphere(2);
+    HalfedgeMesh mesh(Triangulation::from_mesh(sphere));
+    const auto original = face_set(mesh.faces());
+    std::mt19937 rng(3);
+    for (int i = 0; i < 200; ++i) {
+        const int e = static_cast<int>(rng() % mesh.num_edges());
+        const int h = mesh.halfedge(e);
+        const int r = mesh.opposite_vertex(h), s = mesh.opposite_vertex(mesh.twin(h));
+        if (mesh.has_edge_between(h, s)) continue;  // would duplicate an edge
+        const int p = mesh.tail(h), q = mesh.head(h);
+        mesh.flip(e);
+        const int g = mesh.halfedge(e);
+        EXPECT_EQ(std::minmax(mesh.tail(g), mesh.head(g)), std::minmax(r, s));
+        EXPECT_FALSE(mesh.has_edge_between(g, mesh.opposite_vertex(g) == p ? q : p));
+        checked(mesh, sphere.V);
+        const MeshInfo info = info_of(mesh, sphere.V);
+        ASSERT_TRUE(info.manifold());
+        ASSERT_EQ(info.orientation_conflicts, 0);
+        ASSERT_EQ(info.euler_characteristic, 2);
+    }
+    EXPECT_NE(face_set(mesh.faces()), original);
+}
+
+TEST(HalfedgeMesh, FlipTwiceRestoresTheFaces) {
+    const TriangleMesh grid = make_grid(3, 3);
+    HalfedgeMesh mesh(Triangulation::from_mesh(grid));
+    const auto original = face_set(mesh.faces());
+    for (int e = 0; e < mesh.num_edges(); ++e) {
+        if (mesh.is_boundary_edge(e)) continue;
+        mesh.flip(e);
+        EXPECT_NE(face_set(mesh.faces()), original);
+        mesh.flip(e);
+        EXPECT_EQ(face_set(mesh.faces()), original) << "edge " << e;
+    }
+}
+
+TEST(HalfedgeMesh, SplitsAddTheRightElements) {
+    const TriangleMesh grid = make_grid(4, 3);
+    HalfedgeMesh mesh(Triangulation::from_mesh(grid));
+    Eigen::MatrixX3d V = grid.V;
+    std::mt19937 rng(9);
+    for (int i = 0; i < 60; ++i) {
+        const int e = static_cast<int>(rng() % mesh.num_edges());
+        const int h = mesh.halfedge(e);
+        const int p = mesh.tail(h), q = mesh.head(h);
+        const bool boundary = mesh.is_boundary_edge(e);
+        const int faces = mesh.num_faces(), edges = mesh.num_edges();
+        const int x = mesh.split(e);
+        EXPECT_EQ(x, V.rows());
+        V.conservativeResize(V.rows() + 1, 3);
+        V.row(x) = 0.5 * (V.row(p) + V.row(q));
+        EXPECT_EQ(mesh.num_faces(), faces + (boundary ? 1 : 2));
+        EXPECT_EQ(mesh.num_edges(), edges + (boundary ? 2 : 3));
+        const int kept = mesh.halfedge(e);  // e is now p-x
+        EXPECT_EQ(std::minmax(mesh.tail(kept), mesh.head(kept)), std::minmax(p, x));
+        const int other = mesh.halfedge(edges);  // the first new edge is x-q
+        EXPECT_EQ(std::minmax(mesh.tail(other), mesh.head(other)), std::minmax(x, q));
+        checked(mesh, V);
+        const MeshInfo info = info_of(mesh, V);
+        ASSERT_TRUE(info.manifold());
+        ASSERT_EQ(info.orientation_conflicts, 0);
+        ASSERT_EQ(info.euler_characteristic, 1);
+        ASSERT_EQ(info.boundary_loops, 1);
+    }
+}
+
+TEST(HalfedgeMesh, EdgeQueriesWalkTheWholeFan) {
+    for (const TriangleMesh& m : {make_icosphere(1), make_grid(4, 4)}) {
+        const Triangulation t = Triangulation::from_mesh(m);
+        const HalfedgeMesh mesh(t);
+        std::vector<std::set<int>> neighbours(m.num_vertices());
+        for (int e = 0; e < t.num_edges(); ++e) {
+            neighbours[t.E(e, 0)].insert(t.E(e, 1));
+            neighbours[t.E(e, 1)].insert(t.E(e, 0));
+        }
+        for (int c = 0; c < 3 * mesh.num_faces(); ++c) {
+            const int v = mesh.corner(c / 3, c % 3);
+            for (int w = 0; w < m.num_vertices(); ++w)
+                EXPECT_EQ(mesh.has_edge_between(c, w), neighbours[v].count(w) > 0) << v << " " << w;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace sdmesh
