@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <utility>
 
 namespace sdmesh {
 
@@ -113,31 +114,43 @@ bool HalfedgeMesh::has_edge_between(int c, int v) const {
     }
 }
 
-Triangulation HalfedgeMesh::to_triangulation(const Eigen::VectorXd& length) const {
+Triangulation HalfedgeMesh::to_triangulation(Eigen::VectorXd length) const {
+    // One pass over the halfedges in order, each edge written by its first listed side: the
+    // reads are sequential and only the edge writes scatter.
     Triangulation out;
     out.num_vertices = num_vertices_;
-    out.F = faces();
     const int nf = num_faces(), ne = num_edges();
+    out.F.resize(nf, 3);
     out.E.resize(ne, 2);
     out.edge_halfedges.resize(ne, 2);
-    for (int e = 0; e < ne; ++e) {
-        const int h = edge_halfedge_[e], t = twin_[h];
-        out.E.row(e) << std::min(tail(h), head(h)), std::max(tail(h), head(h));
-        out.edge_halfedges.row(e) << (t < 0 ? h : std::min(h, t)), (t < 0 ? -1 : std::max(h, t));
-    }
     out.face_edge.resize(nf, 3);
     out.face_edge_sign.resize(nf, 3);
-    for (int h = 0; h < 3 * nf; ++h) {
-        out.face_edge(h / 3, h % 3) = edge_[h];
-        out.face_edge_sign(h / 3, h % 3) = static_cast<signed char>(tail(h) == out.E(edge_[h], 0) ? 1 : -1);
-    }
-    out.length = length;
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const int h = 3 * f + k, t = twin_[h], e = edge_[h], from = tail(h), to = head(h);
+            const bool first = t < 0 || h < t;
+            if (first) {
+                out.E(e, 0) = std::min(from, to);
+                out.E(e, 1) = std::max(from, to);
+                out.edge_halfedges(e, 0) = h;
+                out.edge_halfedges(e, 1) = t;
+            }
+            // E(e,0) is the smaller end. Both sides of a self-edge start there: the first listed
+            // runs along it, its twin against it, so that d1 sees the two faces glued with
+            // opposite orientations.
+            const bool forward = from != to ? from < to : first;
+            out.F(f, k) = corner_[h];
+            out.face_edge(f, k) = e;
+            out.face_edge_sign(f, k) = static_cast<signed char>(forward ? 1 : -1);
+        }
+    out.length = std::move(length);
     return out;
 }
 
 Eigen::MatrixX3i HalfedgeMesh::faces() const {
     Eigen::MatrixX3i F(num_faces(), 3);
-    for (int f = 0; f < num_faces(); ++f) F.row(f) << corner_[3 * f], corner_[3 * f + 1], corner_[3 * f + 2];
+    for (int f = 0; f < num_faces(); ++f)
+        for (int k = 0; k < 3; ++k) F(f, k) = corner_[3 * f + k];
     return F;
 }
 

@@ -54,8 +54,9 @@ public:
     [[nodiscard]] bool has_edge_between(int c, int v) const;
 
     /// Writes the current faces and a per-edge array into a Triangulation (lengths are the
-    /// caller's, indexed by edge id); E(e,·) is ordered so that E(e,0) <= E(e,1).
-    [[nodiscard]] Triangulation to_triangulation(const Eigen::VectorXd& length) const;
+    /// caller's, indexed by edge id); E(e,·) is ordered so that E(e,0) <= E(e,1). On a self-edge
+    /// the side listed first in edge_halfedges gets sign +1 and its twin -1.
+    [[nodiscard]] Triangulation to_triangulation(Eigen::VectorXd length) const;
 
     /// The faces as an |F| x 3 array.
     [[nodiscard]] Eigen::MatrixX3i faces() const;

@@ -1,6 +1,8 @@
 // The internal flip/split connectivity: every edit leaves a valid, consistently oriented
 // triangulation whose edge ids agree with the faces.
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 #include <set>
 
@@ -37,6 +39,15 @@ std::set<std::array<int, 3>> face_set(const Eigen::MatrixX3i& F) {
         faces.insert(key);
     }
     return faces;
+}
+
+TriangleMesh test_pillow() {
+    TriangleMesh m;
+    m.V.resize(3, 3);
+    m.V << 0, 0, 0, 1, 0, 0, 0.5, std::sqrt(0.75), 0;
+    m.F.resize(2, 3);
+    m.F << 0, 1, 2, 0, 2, 1;
+    return m;
 }
 
 TEST(HalfedgeMesh, RoundTripKeepsTheTriangulation) {
@@ -131,6 +142,35 @@ TEST(HalfedgeMesh, EdgeQueriesWalkTheWholeFan) {
                 EXPECT_EQ(mesh.has_edge_between(c, w), neighbours[v].count(w) > 0) << v << " " << w;
         }
     }
+}
+
+// The pillow: two equilateral triangles glued along all three sides. Flipping a side joins the
+// two opposite corners, which are the same vertex: a self-edge, and each face becomes glued to
+// itself along another side.
+TEST(HalfedgeMesh, FlipToASelfEdgeGivesAConsistentDeltaComplex) {
+    const TriangleMesh pillow = test_pillow();
+    HalfedgeMesh mesh(Triangulation::from_mesh(pillow));
+    const int e = 0;  // (0, 1), opposite vertex 2 on both sides
+    mesh.flip(e);
+    const int h = mesh.halfedge(e);
+    EXPECT_EQ(mesh.tail(h), 2);
+    EXPECT_EQ(mesh.head(h), 2);
+    Eigen::VectorXd length = Eigen::VectorXd::Ones(mesh.num_edges());
+    length[e] = std::sqrt(3.0);  // twice the height of the unit equilateral triangle
+    const Triangulation t = mesh.to_triangulation(length);
+    t.check();
+    EXPECT_EQ(t.E.row(e), Eigen::RowVector2i(2, 2));
+    // On a closed oriented surface every edge is run along once in each direction, so its signs
+    // sum to zero (the rows of d1 add up to 0); that includes the self-edge.
+    Eigen::VectorXi sign_sum = Eigen::VectorXi::Zero(t.num_edges());
+    for (int f = 0; f < t.num_faces(); ++f)
+        for (int k = 0; k < 3; ++k) sign_sum[t.face_edge(f, k)] += t.face_edge_sign(f, k);
+    EXPECT_EQ(sign_sum, Eigen::VectorXi::Zero(t.num_edges()));
+    EXPECT_EQ(t.face_edge_sign(t.edge_halfedges(e, 0) / 3, t.edge_halfedges(e, 0) % 3), 1);
+
+    mesh.flip(e);  // back to the pillow
+    EXPECT_EQ(face_set(mesh.faces()), face_set(pillow.F));
+    EXPECT_EQ(std::minmax(mesh.tail(mesh.halfedge(e)), mesh.head(mesh.halfedge(e))), std::minmax(0, 1));
 }
 
 }  // namespace

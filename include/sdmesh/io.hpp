@@ -85,6 +85,10 @@ struct WriteOptions {
 void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh,
                 const WriteOptions& options = {});
 
+/// Writes `text` to `path` atomically (temporary file in the same folder, then rename), for
+/// reports and other small outputs; ".gz" compresses. \throws IoError
+void write_text_file(const std::filesystem::path& path, std::string_view text);
+
 /// The format an extension names ("x.PLY.gz" -> ply, compressed = true).
 /// \throws UnsupportedFormatError for any other extension.
 MeshFormat format_from_path(const std::filesystem::path& path, bool* compressed = nullptr);

@@ -7,6 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/json.hpp"
+#include "cli/reports.hpp"
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
@@ -26,13 +27,11 @@ struct Inspection {
 Inspection inspect(const std::string& path) {
     Inspection in;
     in.mesh = read_mesh(path, &in.read);
-    try {
+    about_file(path, [&] {
         require_indices_in_range(in.mesh);
         in.edges = build_edge_table(in.mesh.F, in.mesh.num_vertices());
         in.info = validate(in.mesh, in.edges);
-    } catch (const InvalidMeshError& e) {
-        throw InvalidMeshError(path + ": " + e.what());
-    }
+    });
     return in;
 }
 
@@ -105,12 +104,7 @@ int run_check(Args& args) {
 
     const auto start = std::chrono::steady_clock::now();
     const Inspection in = inspect(path);
-    DelaunayCertificate cert;
-    try {
-        cert = certify(in.mesh, in.edges, options);
-    } catch (const InvalidMeshError& e) {
-        throw InvalidMeshError(path + ": " + e.what());
-    }
+    const DelaunayCertificate cert = about_file(path, [&] { return certify(in.mesh, in.edges, options); });
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double fraction =
         cert.interior_edges > 0 ? double(cert.non_delaunay_edges) / cert.interior_edges : 0.0;
@@ -119,18 +113,7 @@ int run_check(Args& args) {
         JsonObject out;
         out.add("file", path);
         add_validation(out, in);
-        out.add("interior_edges", cert.interior_edges)
-            .add("non_delaunay_edges", cert.non_delaunay_edges)
-            .add("non_delaunay_fraction", fraction)
-            .add("boundary_obtuse_edges", cert.boundary_obtuse_edges)
-            .add("min_delaunay_margin", cert.min_delaunay_margin)
-            .add("negative_dual_cells", cert.negative_dual_cells)
-            .add("negative_cotan_weights", cert.negative_cotan_weights)
-            .add("gabriel_violations", cert.gabriel_violations)
-            .add("boundary_policy", options.boundary == BoundaryPolicy::strict ? "strict" : "free")
-            .add("tolerance", options.tolerance)
-            .add("seconds", seconds)
-            .add("self_delaunay", cert.self_delaunay);
+        out.merge(certificate_json(cert, options)).add("seconds", seconds);
         std::cout << out.str() << '\n';
     } else {
         std::printf("%s: %s\n", path.c_str(), cert.self_delaunay ? "self-Delaunay" : "NOT self-Delaunay");

@@ -2,7 +2,10 @@
 // The subcommands of the `sdmesh` executable. Each returns the process exit code and throws
 // sdmesh::Error or UsageError, which main() maps to exit codes.
 
+#include <string>
+
 #include "cli/args.hpp"
+#include "sdmesh/error.hpp"
 
 namespace sdmesh::cli {
 
@@ -20,8 +23,21 @@ enum ExitCode : int {
     kInternalError = 70,
 };
 
+/// Runs f(), naming `path` in the message of an InvalidMeshError it throws (the library's
+/// messages name elements, the command knows the file).
+template <class F>
+decltype(auto) about_file(const std::string& path, F&& f) {
+    try {
+        return f();
+    } catch (const InvalidMeshError& e) {
+        throw InvalidMeshError(path + ": " + e.what());
+    }
+}
+
 int run_info(Args& args);
 int run_check(Args& args);
 int run_repair(Args& args);
+int run_convert(Args& args);
+int run_operators(Args& args);
 
 }  // namespace sdmesh::cli

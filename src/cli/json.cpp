@@ -63,6 +63,12 @@ JsonObject& JsonObject::add(std::string_view key, const JsonObject& nested) {
     return *this;
 }
 
+JsonObject& JsonObject::merge(const JsonObject& other) {
+    if (!members_.empty() && !other.members_.empty()) members_ += '\n';
+    members_ += other.members_;
+    return *this;
+}
+
 std::string JsonObject::str(int indent) const {
     const std::string separator = indent > 0 ? ",\n" + std::string(static_cast<size_t>(indent), ' ') : ", ";
     std::string out = indent > 0 ? "{\n" + std::string(static_cast<size_t>(indent), ' ') : "{";

@@ -15,6 +15,8 @@ public:
     JsonObject& add(std::string_view key, std::string_view value);
     JsonObject& add(std::string_view key, const char* value) { return add(key, std::string_view(value)); }
     JsonObject& add(std::string_view key, const JsonObject& nested);
+    /// Appends the members of `other` (a flat union; keys are not checked for repeats).
+    JsonObject& merge(const JsonObject& other);
 
     /// The object as text; `indent` > 0 puts one member per line.
     [[nodiscard]] std::string str(int indent = 2) const;

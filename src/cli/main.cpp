@@ -20,11 +20,17 @@ Commands:
   info MESH                       topology and defects of a mesh, human-readable
   check MESH [--json] [--boundary strict|free] [--tolerance RAD]
                                   Delaunay certificate; exit 0 if self-Delaunay, 1 if not
+  convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell]
+          [--max-dihedral DEG] [--boundary strict|free] [--max-vertices N]
+          [--repair] [--report FILE.json] [--progress]
+                                  self-Delaunay conversion; exit 0 if certified, 1 if not
   repair IN OUT [--keep-...]      merge coincident vertices, drop repeated-index and duplicate
                                   faces, orient consistently, drop unreferenced vertices
+  operators MESH --out DIR [--mass barycentric|circumcentric|mixed|galerkin]
+                                  L, M, d0, d1, star0/1/2 as Matrix Market files and report.json in DIR
 
 Mesh files: .obj .off .ply .stl, each optionally .gz.
-Exit codes: 0 ok, 1 not self-Delaunay, 2 usage, 3 I/O error, 4 unsupported format,
+Exit codes: 0 ok, 1 not self-Delaunay / not certified, 2 usage, 3 I/O error, 4 unsupported format,
             5 malformed file, 6 invalid mesh, 7 invalid argument, 8 numerical error,
             70 internal error.
 )";
@@ -38,6 +44,8 @@ constexpr Command kCommands[] = {
     {"info", run_info},
     {"check", run_check},
     {"repair", run_repair},
+    {"convert", run_convert},
+    {"operators", run_operators},
 };
 
 int fail(int code, const std::string& message) {

@@ -23,14 +23,8 @@ int run_repair(Args& args) {
 
     const TriangleMesh mesh = read_mesh(paths[0]);
     RepairReport report;
-    TriangleMesh repaired;
-    MeshInfo info;
-    try {
-        repaired = repair(mesh, options, &report);
-        info = validate(repaired);
-    } catch (const InvalidMeshError& e) {
-        throw InvalidMeshError(paths[0] + ": " + e.what());
-    }
+    const TriangleMesh repaired = about_file(paths[0], [&] { return repair(mesh, options, &report); });
+    const MeshInfo info = validate(repaired);
     write_mesh(paths[1], repaired);
 
     JsonObject out;

@@ -308,4 +308,8 @@ void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh,
     });
 }
 
+void write_text_file(const std::filesystem::path& path, std::string_view text) {
+    io::write_atomically(path, path.extension() == ".gz", [&](io::OutputFile& out) { out.write(text); });
+}
+
 }  // namespace sdmesh

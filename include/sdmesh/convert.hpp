@@ -1,0 +1,98 @@
+#pragma once
+// Conversion of a manifold triangle mesh into a self-Delaunay mesh (ALGORITHMS.md §1-§3).
+//
+// Methods:
+//  - flip:   Delaunay edge flips on the surface (Lawson, after Dyer, Zhang & Möller 2007). Moves
+//            the surface where it is not flat; edges that cannot be flipped (the new edge exists
+//            already, or the unfolded hinge is not convex) stay and are counted.
+//  - split:  geometry-preserving. Non-Delaunay edges are split at points on them; flips happen
+//            only where the two faces are coplanar, so the surface does not move at all.
+//  - hybrid: edges within max_dihedral_deg of flat are flipped, the others split: fewer new
+//            vertices for a bounded change of the surface (reported as a Hausdorff distance).
+//
+// Every edge is judged by the one tolerance policy of delaunay.hpp; the result is certified by
+// certify() on the output, whose certificate is part of the report.
+//
+//   const auto result = sdmesh::convert(mesh, {.method = sdmesh::ConvertMethod::hybrid,
+//                                              .max_dihedral_deg = 10});
+//   if (result.report.status == sdmesh::ConvertStatus::certified) write_mesh("out.obj", result.mesh);
+
+#include <string_view>
+
+#include "sdmesh/delaunay.hpp"
+#include "sdmesh/mesh.hpp"
+
+namespace sdmesh {
+
+enum class ConvertMethod { flip, split, hybrid };
+
+/// Where a non-Delaunay edge is split (ALGORITHMS.md §3).
+enum class SplitRule {
+    /// Inside the interval that keeps both halves locally Delaunay (Liu et al. 2015), keeping as
+    /// many of the four outer edges locally Delaunay as possible; pieces that end at an input
+    /// vertex follow the shells below, which stops small input angles from cascading.
+    interval,
+    /// On concentric shells around input vertices (Dyer's rule, after Ruppert): at a power of
+    /// two of a fixed unit from the input endpoint, within [l/3, 2l/3); the midpoint otherwise.
+    shell,
+};
+
+enum class ConvertStatus {
+    certified,         ///< the output is self-Delaunay
+    budget_exhausted,  ///< max_vertices was reached first; the output is valid but not certified
+    not_certified,     ///< flip method: unflippable non-Delaunay edges remain
+};
+
+struct ConvertOptions {
+    ConvertMethod method = ConvertMethod::split;
+    SplitRule split_rule = SplitRule::interval;
+    /// hybrid: edges whose dihedral angle is within this many degrees of flat (180°) are flipped.
+    double max_dihedral_deg = 10.0;
+    /// split: two faces count as coplanar (so their edge may be flipped without moving the
+    /// surface) when their normals differ by at most this angle, in radians.
+    double coplanar_tolerance = 1e-10;
+    BoundaryPolicy boundary = BoundaryPolicy::strict;
+    double tolerance = kDelaunayTolerance;  ///< the locally-Delaunay tolerance, radians
+    /// Stop with status budget_exhausted when the mesh reaches this many vertices;
+    /// 0 = 10·|V| + 100000.
+    long long max_vertices = 0;
+    /// Print a progress line to stderr about every second.
+    bool progress = false;
+    /// Compute the two-sided sampled Hausdorff distance output <-> input (0 for split).
+    bool measure_hausdorff = true;
+};
+
+struct ConversionReport {
+    long long input_vertices = 0;
+    long long output_vertices = 0;
+    long long input_faces = 0;
+    long long output_faces = 0;
+    long long input_non_delaunay_edges = 0;  ///< interior non-LD + boundary-obtuse (policy)
+    long long input_nonflat_non_delaunay_edges = 0;  ///< of those, edges that are not flat
+    long long flips = 0;
+    long long splits = 0;
+    long long unflippable_edges = 0;  ///< flip method: non-LD edges left at the end
+    long long vertices_inside_faces = 0;  ///< split points not on an input edge
+    ConvertStatus status = ConvertStatus::certified;
+    double seconds = 0;
+    double hausdorff_rel = 0;  ///< two-sided, relative to the input's bounding-box diagonal
+    DelaunayCertificate certificate;  ///< of the output, under the same boundary policy
+};
+
+struct ConversionResult {
+    TriangleMesh mesh;
+    ConversionReport report;
+};
+
+/// Converts a mesh to a self-Delaunay one (see the methods above). New vertices are appended
+/// after the input's; the input's vertices keep their indices.
+/// \throws InvalidMeshError the mesh is not a manifold with finite coordinates, or has a face of
+///         zero area (run repair() first); the message names the first offending element.
+/// \throws InvalidArgumentError an option out of range.
+ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options = {});
+
+std::string_view to_string(ConvertStatus status);
+std::string_view to_string(ConvertMethod method);
+std::string_view to_string(SplitRule rule);
+
+}  // namespace sdmesh

@@ -1,0 +1,89 @@
+// `sdmesh convert IN OUT`: any manifold mesh to a certified self-Delaunay mesh.
+
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "cli/json.hpp"
+#include "cli/reports.hpp"
+#include "sdmesh/convert.hpp"
+#include "sdmesh/io.hpp"
+#include "sdmesh/validate.hpp"
+
+namespace sdmesh::cli {
+namespace {
+
+constexpr const char* kConvertUsage =
+    "sdmesh convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell] [--max-dihedral DEG] "
+    "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--repair] [--report FILE.json] [--progress]";
+
+template <class Enum, size_t N>
+Enum parse_choice(Args& args, const char* option, const std::pair<const char*, Enum> (&choices)[N], Enum fallback) {
+    const auto value = args.option(option);
+    if (!value) return fallback;
+    std::string names;
+    for (const auto& [name, choice] : choices) {
+        if (*value == name) return choice;
+        names += names.empty() ? name : std::string("|") + name;
+    }
+    throw UsageError(std::string(option) + " must be " + names + ", got '" + *value + "'");
+}
+
+}  // namespace
+
+int run_convert(Args& args) {
+    ConvertOptions options;
+    options.method = parse_choice(args, "--method",
+                                  {std::pair{"split", ConvertMethod::split}, std::pair{"hybrid", ConvertMethod::hybrid},
+                                   std::pair{"flip", ConvertMethod::flip}},
+                                  options.method);
+    options.split_rule = parse_choice(
+        args, "--split-rule", {std::pair{"interval", SplitRule::interval}, std::pair{"shell", SplitRule::shell}},
+        options.split_rule);
+    options.boundary = parse_choice(
+        args, "--boundary", {std::pair{"strict", BoundaryPolicy::strict}, std::pair{"free", BoundaryPolicy::free}},
+        options.boundary);
+    options.max_dihedral_deg = args.number("--max-dihedral").value_or(options.max_dihedral_deg);
+    options.tolerance = args.number("--tolerance").value_or(options.tolerance);
+    options.max_vertices = static_cast<long long>(args.number("--max-vertices").value_or(0));
+    options.progress = args.flag("--progress");
+    const bool repair_first = args.flag("--repair");
+    const std::optional<std::string> report_path = args.option("--report");
+    const auto paths = args.positionals(2, kConvertUsage);
+
+    TriangleMesh mesh = read_mesh(paths[0]);
+    if (repair_first) mesh = about_file(paths[0], [&] { return repair(mesh); });
+    const ConversionResult result = about_file(paths[0], [&] { return convert(mesh, options); });
+    write_mesh(paths[1], result.mesh);
+
+    const ConversionReport& r = result.report;
+    JsonObject json;
+    json.add("input", paths[0])
+        .add("output", paths[1])
+        .add("method", to_string(options.method))
+        .add("split_rule", to_string(options.split_rule))
+        .add("max_dihedral_deg", options.max_dihedral_deg)
+        .add("input_vertices", r.input_vertices)
+        .add("output_vertices", r.output_vertices)
+        .add("input_faces", r.input_faces)
+        .add("output_faces", r.output_faces)
+        .add("input_non_delaunay_edges", r.input_non_delaunay_edges)
+        .add("input_nonflat_non_delaunay_edges", r.input_nonflat_non_delaunay_edges)
+        .add("flips", r.flips)
+        .add("splits", r.splits)
+        .add("unflippable_edges", r.unflippable_edges)
+        .add("vertices_inside_faces", r.vertices_inside_faces)
+        .add("status", to_string(r.status))
+        .add("seconds", r.seconds)
+        .add("hausdorff_rel", r.hausdorff_rel)
+        .add("certificate", certificate_json(r.certificate, {.boundary = options.boundary, .tolerance = options.tolerance}));
+    const std::string text = json.str() + "\n";
+    if (report_path) write_text_file(*report_path, text);
+    std::cout << text;
+    if (r.status != ConvertStatus::certified)
+        std::cerr << "sdmesh convert: " << paths[1] << ": not certified (" << to_string(r.status) << ")\n";
+    return r.status == ConvertStatus::certified ? kSuccess : kNotSelfDelaunay;
+}
+
+}  // namespace sdmesh::cli

@@ -1,0 +1,383 @@
+#include "sdmesh/convert.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <queue>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "halfedge.hpp"
+#include "sdmesh/distance.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/geometry.hpp"
+#include "sdmesh/triangulation.hpp"
+#include "sdmesh/validate.hpp"
+
+namespace sdmesh {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kPi = std::numbers::pi;
+
+// The hinge of an edge seen from halfedge h = (a -> b) with apex r, and its twin's apex s
+// (s = -1 on the boundary).
+struct Hinge {
+    int h, a, b, r, s;
+};
+
+// Lawson-style conversion on a HalfedgeMesh with positions; one instance per convert() call.
+class Converter {
+public:
+    Converter(const TriangleMesh& mesh, const ConvertOptions& options)
+        : options_(options),
+          mesh_(Triangulation::from_mesh(mesh)),
+          input_vertices_(mesh.num_vertices()),
+          flat_angle_(flat_angle(options)) {
+        P_.resize(static_cast<size_t>(mesh.num_vertices()));
+        for (int v = 0; v < mesh.num_vertices(); ++v) P_[v] = mesh.V.row(v).transpose();
+        input_edge_.resize(static_cast<size_t>(mesh_.num_edges()));
+        for (int e = 0; e < mesh_.num_edges(); ++e) input_edge_[e] = e;
+        queued_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
+        const double diagonal = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+        shell_unit_ = std::exp2(std::floor(std::log2(diagonal)) - 40.0);
+    }
+
+    void run(ConversionReport& report) {
+        for (int e = 0; e < mesh_.num_edges(); ++e) {
+            if (is_delaunay(e)) continue;
+            ++report.input_non_delaunay_edges;
+            if (!is_flat(e, options_.coplanar_tolerance)) ++report.input_nonflat_non_delaunay_edges;
+            push(e);
+        }
+        const long long budget = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
+        auto last_progress = Clock::now();
+        while (true) {
+            const int e = pop();
+            if (e < 0) break;
+            if (is_delaunay(e)) continue;
+            if (is_flat(e, flat_angle_) && is_flippable(e)) {
+                flip(e);
+                ++report.flips;
+            } else if (options_.method == ConvertMethod::flip) {
+                continue;  // left for the final certificate to count
+            } else if (mesh_.num_vertices() >= budget) {
+                report.status = ConvertStatus::budget_exhausted;
+                break;
+            } else {
+                if (input_edge_[e] < 0) ++report.vertices_inside_faces;
+                split(e);
+                ++report.splits;
+            }
+            if (options_.progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
+                last_progress = Clock::now();
+                std::fprintf(stderr, "convert: %lld splits, %lld flips, %zu queued, %d vertices\n", report.splits,
+                             report.flips, flat_queue_.size() + physical_queue_.size(), mesh_.num_vertices());
+            }
+        }
+    }
+
+    TriangleMesh result() const {
+        TriangleMesh out;
+        out.V.resize(static_cast<Eigen::Index>(P_.size()), 3);
+        for (size_t v = 0; v < P_.size(); ++v) out.V.row(static_cast<Eigen::Index>(v)) = P_[v].transpose();
+        out.F = mesh_.faces();
+        return out;
+    }
+
+private:
+    static double flat_angle(const ConvertOptions& o) {
+        switch (o.method) {
+            case ConvertMethod::flip: return kPi;  // every edge may be flipped
+            case ConvertMethod::split: return o.coplanar_tolerance;
+            case ConvertMethod::hybrid: return o.max_dihedral_deg * kPi / 180.0;
+        }
+        return 0;
+    }
+
+    Hinge hinge(int e) const {
+        const int h = mesh_.halfedge(e), t = mesh_.twin(h);
+        return {h, mesh_.tail(h), mesh_.head(h), mesh_.opposite_vertex(h), t < 0 ? -1 : mesh_.opposite_vertex(t)};
+    }
+
+    double dist(int u, int v) const { return (P_[u] - P_[v]).norm(); }
+
+    bool is_delaunay(int e) const {
+        const Hinge k = hinge(e);
+        const double l = dist(k.a, k.b);
+        if (k.s < 0)
+            return options_.boundary == BoundaryPolicy::free ||
+                   boundary_margin(l, dist(k.a, k.r), dist(k.b, k.r)) >= -options_.tolerance;
+        return delaunay_margin(l, dist(k.a, k.r), dist(k.b, k.r), dist(k.a, k.s), dist(k.b, k.s)) >=
+               -options_.tolerance;
+    }
+
+    // Interior edge whose face normals differ by at most `angle` radians.
+    bool is_flat(int e, double angle) const {
+        const Hinge k = hinge(e);
+        if (k.s < 0) return false;
+        const Eigen::Vector3d n1 = (P_[k.b] - P_[k.a]).cross(P_[k.r] - P_[k.a]);
+        const Eigen::Vector3d n2 = (P_[k.a] - P_[k.b]).cross(P_[k.s] - P_[k.b]);
+        return std::atan2(n1.cross(n2).norm(), n1.dot(n2)) <= angle;
+    }
+
+    // The new edge r-s must not exist already, and the hinge unfolded into the plane must be
+    // strictly convex at a and b, so that both new faces have positive area and keep the
+    // orientation.
+    bool is_flippable(int e) const {
+        const Hinge k = hinge(e);
+        if (k.r == k.s || mesh_.has_edge_between(k.h, k.s)) return false;
+        const double l = dist(k.a, k.b), ar = dist(k.a, k.r), br = dist(k.b, k.r), as = dist(k.a, k.s),
+                     bs = dist(k.b, k.s);
+        const double at_a = corner_angle(br, l, ar) + corner_angle(bs, l, as);
+        const double at_b = corner_angle(ar, l, br) + corner_angle(as, l, bs);
+        return at_a < kPi - 1e-9 && at_b < kPi - 1e-9;
+    }
+
+    void flip(int e) {
+        const Hinge k = hinge(e);
+        const int outer[4] = {mesh_.edge(HalfedgeMesh::next(k.h)), mesh_.edge(HalfedgeMesh::prev(k.h)),
+                              mesh_.edge(HalfedgeMesh::next(mesh_.twin(k.h))),
+                              mesh_.edge(HalfedgeMesh::prev(mesh_.twin(k.h)))};
+        mesh_.flip(e);
+        input_edge_[e] = -1;  // the new diagonal crosses the input faces
+        for (int o : outer) push(o);
+    }
+
+    // Distance from a at which to split the edge a-b (length l) of hinge k.
+    double split_distance(const Hinge& k, double l) const {
+        // Pieces that end at an input vertex follow the shells even under the interval rule: two
+        // input edges meeting at a small angle would otherwise split each other ever finer.
+        if (options_.split_rule == SplitRule::shell || (k.a < input_vertices_) != (k.b < input_vertices_))
+            return shell_distance(k.a, k.b, l);
+        // Hard constraint: I0, where both halves are locally Delaunay, kept away from the
+        // endpoints so that piece lengths stay bounded below.
+        // The interval is shrunk by a little, so that no half ends up exactly co-circular.
+        Interval hard = delaunay_halves_interval(k, l);
+        const double inset = 1e-3 * (hard.hi - hard.lo);
+        hard.lo = std::max(hard.lo + inset, 0.1 * l);
+        hard.hi = std::min(hard.hi - inset, 0.9 * l);
+        if (hard.lo > hard.hi) return 0.5 * l;
+        // Soft constraints: each outer side of the hinge stays locally Delaunay on a half-line
+        // of positions. Keep as many as possible (the largest feasible subset, first found).
+        std::vector<Interval> soft;
+        for (const int h : {k.h, mesh_.twin(k.h)}) {
+            if (h < 0) continue;
+            const int from_a = h == k.h ? HalfedgeMesh::prev(h) : HalfedgeMesh::next(h);  // side a-apex
+            const int from_b = h == k.h ? HalfedgeMesh::next(h) : HalfedgeMesh::prev(h);  // side b-apex
+            soft.push_back(outer_side_interval(from_a, k.a, k.b, l, false));
+            soft.push_back(outer_side_interval(from_b, k.b, k.a, l, true));
+        }
+        Interval best = hard;
+        int best_count = -1;
+        for (unsigned subset = 0; subset < (1u << soft.size()); ++subset) {
+            Interval candidate = hard;
+            int count = 0;
+            for (size_t i = 0; i < soft.size(); ++i)
+                if (subset >> i & 1u) {
+                    candidate.lo = std::max(candidate.lo, soft[i].lo);
+                    candidate.hi = std::min(candidate.hi, soft[i].hi);
+                    ++count;
+                }
+            if (candidate.lo <= candidate.hi && count > best_count) best = candidate, best_count = count;
+        }
+        // Prefer the foot of the perpendicular from the apex with the wider angle: the spoke is
+        // then perpendicular to the edge; else the middle of the chosen interval.
+        const double ar = dist(k.a, k.r), br = dist(k.b, k.r);
+        const int apex = k.s >= 0 && dist(k.a, k.s) + dist(k.b, k.s) < ar + br ? k.s : k.r;
+        const double foot = (P_[apex] - P_[k.a]).dot(P_[k.b] - P_[k.a]) / l;
+        return foot >= best.lo && foot <= best.hi ? foot : 0.5 * (best.lo + best.hi);
+    }
+
+    struct Interval {
+        double lo, hi;
+    };
+
+    // I0 of ALGORITHMS.md §3: positions x on a-b (distance from a) for which both halves are
+    // locally Delaunay; on a boundary edge (strict policy) the opposite angle must stay <= π/2.
+    Interval delaunay_halves_interval(const Hinge& k, double l) const {
+        const double ar = dist(k.a, k.r), br = dist(k.b, k.r);
+        const double theta_a = corner_angle(br, l, ar), theta_b = corner_angle(ar, l, br);
+        Interval range{0, l};
+        if (k.s < 0) {
+            if (std::cos(theta_a) > 0) range.hi = std::min(range.hi, ar / std::cos(theta_a));
+            if (std::cos(theta_b) > 0) range.lo = std::max(range.lo, l - br / std::cos(theta_b));
+            return range;
+        }
+        const double as = dist(k.a, k.s), bs = dist(k.b, k.s);
+        const double phi_a = corner_angle(bs, l, as), phi_b = corner_angle(as, l, bs);
+        // Second intersection of the circle through a (b), r, s with the edge line.
+        if (theta_a + phi_a < kPi)
+            range.hi = std::min(range.hi, (ar * std::sin(phi_a) + as * std::sin(theta_a)) / std::sin(theta_a + phi_a));
+        if (theta_b + phi_b < kPi)
+            range.lo = std::max(range.lo, l - (br * std::sin(phi_b) + bs * std::sin(theta_b)) / std::sin(theta_b + phi_b));
+        return range;
+    }
+
+    // Positions x on the edge (distance from a) that keep the outer side `side` = from-apex of the
+    // hinge locally Delaunay once x is its opposite vertex. Unfolded into the plane of the face
+    // (from, to, apex): x must lie outside the circle through `from`, the apex and the vertex w
+    // across the side, i.e. at least D = 2·(c - from)·u from `from` along u = (to - from)/l.
+    // Boundary side: x must see it at an angle <= π/2 (strict policy), a circle with the side as
+    // diameter. `from_b` mirrors the result for measuring from b.
+    Interval outer_side_interval(int side, int from, int to, double l, bool from_b) const {
+        const int apex = mesh_.tail(side) == from ? mesh_.head(side) : mesh_.tail(side);
+        const double d_apex = dist(from, apex), d_to_apex = dist(to, apex);
+        const double angle = corner_angle(d_to_apex, l, d_apex);  // at `from`, between to and apex
+        double reach = 0;  // D
+        const int across = mesh_.twin(side);
+        if (across < 0) {
+            if (options_.boundary == BoundaryPolicy::free) return {0, l};
+            reach = d_apex * std::cos(angle);
+        } else {
+            const int w = mesh_.opposite_vertex(across);
+            const double d_w = dist(from, w);
+            const double beyond = corner_angle(dist(apex, w), d_apex, d_w);  // at `from`, apex to w
+            const Eigen::Vector2d r = d_apex * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+            const Eigen::Vector2d q = d_w * Eigen::Vector2d(std::cos(angle + beyond), std::sin(angle + beyond));
+            const double det = 2 * (r.x() * q.y() - r.y() * q.x());
+            if (std::abs(det) <= 1e-14 * d_apex * d_w) return {0, l};  // circle degenerates to a line
+            const double cx = (r.squaredNorm() * q.y() - q.squaredNorm() * r.y()) / det;
+            reach = 2 * cx;
+        }
+        if (!(reach > 0)) return {0, l};
+        return from_b ? Interval{0, l - reach} : Interval{reach, l};
+    }
+
+    // Ruppert's concentric shells: from the endpoint that is an input vertex, at the power-of-two
+    // multiple of a fixed unit that lies in [l/3, 2l/3); the midpoint if none or both are.
+    double shell_distance(int a, int b, double l) const {
+        const bool a_input = a < input_vertices_, b_input = b < input_vertices_;
+        if (a_input == b_input) return 0.5 * l;
+        const double t = shell_unit_ * std::exp2(std::ceil(std::log2(l / (3.0 * shell_unit_))));
+        return a_input ? t : l - t;
+    }
+
+    void split(int e) {
+        const Hinge k = hinge(e);
+        const double l = dist(k.a, k.b);
+        const double t = std::clamp(split_distance(k, l), 0.0, l);
+        const Eigen::Vector3d x = P_[k.a] + (t / l) * (P_[k.b] - P_[k.a]);
+        const int first_new_edge = mesh_.num_edges();
+        std::vector<int> outer = {mesh_.edge(HalfedgeMesh::next(k.h)), mesh_.edge(HalfedgeMesh::prev(k.h))};
+        if (k.s >= 0) {
+            const int twin = mesh_.twin(k.h);
+            outer.push_back(mesh_.edge(HalfedgeMesh::next(twin)));
+            outer.push_back(mesh_.edge(HalfedgeMesh::prev(twin)));
+        }
+        mesh_.split(e);
+        P_.push_back(x);
+        // The other half lies on the same input edge as e; the spokes inside faces.
+        input_edge_.push_back(input_edge_[e]);
+        while (static_cast<int>(input_edge_.size()) < mesh_.num_edges()) input_edge_.push_back(-1);
+        queued_.resize(static_cast<size_t>(mesh_.num_edges()), 0);
+        push(e);
+        for (int n = first_new_edge; n < mesh_.num_edges(); ++n) push(n);
+        for (int o : outer) push(o);
+    }
+
+    // Flat candidates first (cheap flips), then physical ones, longest first.
+    void push(int e) {
+        if (queued_[e]) return;
+        queued_[e] = 1;
+        if (is_flat(e, flat_angle_)) {
+            flat_queue_.push_back(e);
+        } else {
+            const Hinge k = hinge(e);
+            physical_queue_.emplace(dist(k.a, k.b), e);
+        }
+    }
+
+    int pop() {
+        int e = -1;
+        if (!flat_queue_.empty()) {
+            e = flat_queue_.back();
+            flat_queue_.pop_back();
+        } else if (!physical_queue_.empty()) {
+            e = physical_queue_.top().second;
+            physical_queue_.pop();
+        }
+        if (e >= 0) queued_[e] = 0;
+        return e;
+    }
+
+    const ConvertOptions& options_;
+    HalfedgeMesh mesh_;
+    int input_vertices_;
+    double flat_angle_;
+    double shell_unit_ = 1;
+    std::vector<Eigen::Vector3d> P_;
+    std::vector<int> input_edge_;  // the input edge an edge lies on, -1 inside an input face
+    std::vector<char> queued_;
+    std::vector<int> flat_queue_;
+    std::priority_queue<std::pair<double, int>> physical_queue_;
+};
+
+void check_options(const ConvertOptions& o) {
+    if (!(o.tolerance >= 0)) throw InvalidArgumentError("convert: tolerance must be >= 0");
+    if (!(o.max_dihedral_deg >= 0 && o.max_dihedral_deg <= 180))
+        throw InvalidArgumentError("convert: max_dihedral_deg must be in [0, 180]");
+    if (!(o.coplanar_tolerance >= 0)) throw InvalidArgumentError("convert: coplanar_tolerance must be >= 0");
+    if (o.max_vertices < 0) throw InvalidArgumentError("convert: max_vertices must be >= 0");
+}
+
+}  // namespace
+
+ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options) {
+    const auto start = Clock::now();
+    check_options(options);
+    const MeshInfo info = validate(mesh);
+    require_manifold(info, "convert");
+    if (info.orientation_conflicts > 0)
+        throw InvalidMeshError("convert: the faces are not consistently oriented (" +
+                               std::to_string(info.orientation_conflicts) + " edges); run sdmesh repair");
+
+    ConversionResult result;
+    ConversionReport& report = result.report;
+    report.input_vertices = mesh.num_vertices();
+    report.input_faces = mesh.num_faces();
+    Converter converter(mesh, options);
+    converter.run(report);
+    result.mesh = converter.result();
+    report.output_vertices = result.mesh.num_vertices();
+    report.output_faces = result.mesh.num_faces();
+    report.certificate = certify(result.mesh, {.boundary = options.boundary, .tolerance = options.tolerance});
+    if (report.status != ConvertStatus::budget_exhausted && !report.certificate.self_delaunay)
+        report.status = ConvertStatus::not_certified;
+    if (options.method == ConvertMethod::flip)
+        report.unflippable_edges = report.certificate.non_delaunay_edges +
+                                   (options.boundary == BoundaryPolicy::strict ? report.certificate.boundary_obtuse_edges : 0);
+    if (options.measure_hausdorff && report.flips > 0 && options.method != ConvertMethod::split)
+        report.hausdorff_rel = hausdorff_distance(mesh, result.mesh).hausdorff_rel;
+    report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return result;
+}
+
+std::string_view to_string(ConvertStatus status) {
+    switch (status) {
+        case ConvertStatus::certified: return "certified";
+        case ConvertStatus::budget_exhausted: return "budget_exhausted";
+        case ConvertStatus::not_certified: return "not_certified";
+    }
+    return "unknown";
+}
+
+std::string_view to_string(ConvertMethod method) {
+    switch (method) {
+        case ConvertMethod::flip: return "flip";
+        case ConvertMethod::split: return "split";
+        case ConvertMethod::hybrid: return "hybrid";
+    }
+    return "unknown";
+}
+
+std::string_view to_string(SplitRule rule) {
+    return rule == SplitRule::shell ? "shell" : "interval";
+}
+
+}  // namespace sdmesh

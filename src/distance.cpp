@@ -1,0 +1,273 @@
+#include "sdmesh/distance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+
+#include "sdmesh/error.hpp"
+
+// Determinism: each sample's distance depends only on the sample and the tree; the parallel loops
+// combine them with max (order-independent) and per-face sums that are added serially in face
+// order. So reports are bit-identical for any number of threads.
+
+namespace sdmesh {
+namespace {
+
+using Eigen::Vector3d;
+
+constexpr int kLeafSize = 4;
+// A median split halves the faces, so the depth is at most log2(2^31) = 31 and a traversal stack
+// holds at most depth + 1 entries.
+constexpr int kMaxStack = 64;
+// The cross product of two edges carries a rounding error of about ε·longest², so below this
+// fraction of longest² (the height relative to the longest edge) the normal is not trusted:
+// 1e-8 ≈ √ε balances the error of projecting on a noisy normal (ε·longest²/|n|) against that of
+// ignoring the interior (the height).
+constexpr double kSliver = 1e-8;
+
+// Unit normal of abc, or zero when the triangle is too thin for a normal (see kSliver).
+Vector3d trusted_normal(const Vector3d& a, const Vector3d& b, const Vector3d& c) {
+    const Vector3d n = (b - a).cross(c - a);
+    const double longest2 = std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (c - b).squaredNorm()});
+    const double length = n.norm();
+    if (length <= kSliver * longest2) return Vector3d::Zero();
+    return n / length;
+}
+
+// Closest point of segment se to p. Its end points are returned exactly, and a zero-length
+// segment (along = 0) is its point s.
+Vector3d nearest_on_segment(const Vector3d& p, const Vector3d& s, const Vector3d& e) {
+    const Vector3d se = e - s;
+    const double along = se.dot(p - s), length2 = se.squaredNorm();
+    if (along <= 0) return s;
+    if (along >= length2) return e;
+    return s + (along / length2) * se;
+}
+
+// Closest point of a triangle to p. When p projects outside, the nearest point lies on an edge
+// whose line separates p from the triangle (one edge, or two near a vertex); otherwise it is the
+// projection. A zero normal marks a thin triangle, reduced to its three edges.
+Vector3d nearest_on_triangle(const Vector3d& p, const std::array<Vector3d, 3>& corner, const Vector3d& normal) {
+    const bool thin = normal == Vector3d::Zero();
+    Vector3d best;
+    double best_d2 = std::numeric_limits<double>::infinity();
+    bool outside = false;
+    for (int k = 0; k < 3; ++k) {
+        const Vector3d& s = corner[k];
+        const Vector3d& e = corner[(k + 1) % 3];
+        // Signed area of (p, s, e) along the normal: the opposite corner makes it positive.
+        if (!thin && normal.dot((s - p).cross(e - s)) >= 0) continue;
+        outside = true;
+        const Vector3d x = nearest_on_segment(p, s, e);
+        const double d2 = (x - p).squaredNorm();
+        if (d2 < best_d2) {
+            best = x;
+            best_d2 = d2;
+        }
+    }
+    if (outside) return best;
+    return p - normal * normal.dot(p - corner[0]);
+}
+
+}  // namespace
+
+Vector3d closest_point_on_triangle(const Vector3d& p, const Vector3d& a, const Vector3d& b, const Vector3d& c) {
+    return nearest_on_triangle(p, {a, b, c}, trusted_normal(a, b, c));
+}
+
+// ---- TriangleTree -------------------------------------------------------------------------------
+
+TriangleTree::TriangleTree(const TriangleMesh& mesh) {
+    const int nf = mesh.num_faces();
+    if (nf == 0) throw InvalidMeshError("distance: the mesh has no faces");
+    require_indices_in_range(mesh);
+    require_finite_positions(mesh);
+
+    std::vector<Vector3d> centroid(nf);
+    for (int f = 0; f < nf; ++f)
+        centroid[f] = (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))).transpose() / 3.0;
+    std::vector<int> order(nf);
+    std::iota(order.begin(), order.end(), 0);
+    nodes_.reserve(nf);  // leaves hold >= 2 faces when nf >= 2, so there are < nf nodes
+    build(order, centroid, 0, nf);
+
+    face_ = std::move(order);
+    triangles_.resize(nf);
+    for (int i = 0; i < nf; ++i) {
+        Triangle& t = triangles_[i];
+        for (int k = 0; k < 3; ++k) t.corner[k] = mesh.V.row(mesh.F(face_[i], k)).transpose();
+        t.normal = trusted_normal(t.corner[0], t.corner[1], t.corner[2]);
+    }
+    // Children follow their parent in nodes_, so one backward pass fills the boxes bottom-up.
+    for (int index = static_cast<int>(nodes_.size()) - 1; index >= 0; --index) {
+        Node& node = nodes_[index];
+        if (node.count > 0) {
+            for (int i = node.first; i < node.first + node.count; ++i)
+                for (const Vector3d& x : triangles_[i].corner) node.box.extend(x);
+        } else {
+            node.box = nodes_[index + 1].box.merged(nodes_[node.first].box);
+        }
+    }
+}
+
+int TriangleTree::build(std::vector<int>& order, const std::vector<Vector3d>& centroid, int begin, int end) {
+    const int index = static_cast<int>(nodes_.size());
+    nodes_.emplace_back();
+    if (end - begin <= kLeafSize) {
+        nodes_[index].first = begin;
+        nodes_[index].count = end - begin;
+        return index;
+    }
+    Eigen::AlignedBox3d spread;
+    for (int i = begin; i < end; ++i) spread.extend(centroid[order[i]]);
+    int axis = 0;
+    spread.sizes().maxCoeff(&axis);
+    // Ties broken by face index: the split, hence the tree, is the same with any standard library.
+    const auto before = [&](int f, int g) {
+        return centroid[f][axis] < centroid[g][axis] || (centroid[f][axis] == centroid[g][axis] && f < g);
+    };
+    const int mid = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end, before);
+    build(order, centroid, begin, mid);
+    const int right = build(order, centroid, mid, end);
+    nodes_[index].first = right;
+    return index;
+}
+
+ClosestPoint TriangleTree::closest_point(const Vector3d& query) const {
+    ClosestPoint best{std::numeric_limits<double>::infinity(), Vector3d::Zero(), -1};
+    struct Pending {
+        int node;
+        double box_d2;
+    };
+    std::array<Pending, kMaxStack> stack;
+    int top = 0;
+    stack[top++] = {0, nodes_[0].box.squaredExteriorDistance(query)};
+    while (top > 0) {
+        const Pending pending = stack[--top];
+        if (pending.box_d2 >= best.squared_distance) continue;  // best improved since the push
+        const Node& node = nodes_[pending.node];
+        if (node.count > 0) {
+            for (int i = node.first; i < node.first + node.count; ++i) {
+                const Triangle& t = triangles_[i];
+                const Vector3d x = nearest_on_triangle(query, t.corner, t.normal);
+                const double d2 = (x - query).squaredNorm();
+                if (d2 < best.squared_distance) best = {d2, x, face_[i]};
+            }
+            continue;
+        }
+        Pending near{pending.node + 1, nodes_[pending.node + 1].box.squaredExteriorDistance(query)};
+        Pending far{node.first, nodes_[node.first].box.squaredExteriorDistance(query)};
+        if (far.box_d2 < near.box_d2) std::swap(near, far);
+        // The nearer child goes on top, so it is searched first and tightens the bound for the other.
+        if (far.box_d2 < best.squared_distance) stack[top++] = far;
+        if (near.box_d2 < best.squared_distance) stack[top++] = near;
+    }
+    return best;
+}
+
+// ---- Hausdorff distance -------------------------------------------------------------------------
+
+namespace {
+
+struct OneSided {
+    double max = 0;
+    double mean = 0;
+    long long samples = 0;
+};
+
+TriangleTree tree_of(const TriangleMesh& mesh, const char* which) {
+    try {
+        return TriangleTree(mesh);
+    } catch (const InvalidMeshError& e) {
+        throw InvalidMeshError(std::string("hausdorff_distance: ") + which + " mesh: " + e.what());
+    }
+}
+
+std::vector<int> referenced_vertices(const TriangleMesh& mesh) {
+    std::vector<char> used(mesh.num_vertices(), 0);
+    for (int f = 0; f < mesh.num_faces(); ++f)
+        for (int k = 0; k < 3; ++k) used[mesh.F(f, k)] = 1;
+    std::vector<int> vertices;
+    for (int v = 0; v < mesh.num_vertices(); ++v)
+        if (used[v]) vertices.push_back(v);
+    return vertices;
+}
+
+// The largest k with k² <= samples_per_face whose total fits the budget, at least 1.
+int face_resolution(long long num_vertices, long long num_faces, const HausdorffOptions& options) {
+    int k = static_cast<int>(std::sqrt(static_cast<double>(options.samples_per_face)));
+    while (k > 1 && num_vertices + num_faces * (static_cast<long long>(k) * k + 3) > options.max_samples) --k;
+    return k;
+}
+
+// Distances from the samples of `from` to the surface held by `to`.
+OneSided sample_distances(const TriangleMesh& from, const TriangleTree& to, const HausdorffOptions& options) {
+    const auto distance = [&to](const Vector3d& x) { return std::sqrt(to.closest_point(x).squared_distance); };
+    const std::vector<int> vertices = referenced_vertices(from);
+    const int nv = static_cast<int>(vertices.size()), nf = from.num_faces();
+    const int k = face_resolution(nv, nf, options);
+
+    double worst = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(max : worst)
+    for (int i = 0; i < nv; ++i) worst = std::max(worst, distance(from.V.row(vertices[i]).transpose()));
+
+    // Face f's samples are a + v·(b - a) + w·(c - a): the centroids of the k² sub-triangles of a
+    // k-subdivision (weights for the mean) and the three edge midpoints.
+    std::vector<double> face_mean(nf), area(nf);
+#pragma omp parallel for schedule(dynamic, 64) reduction(max : worst)
+    for (int f = 0; f < nf; ++f) {
+        const Vector3d a = from.V.row(from.F(f, 0)).transpose();
+        const Vector3d ab = from.V.row(from.F(f, 1)).transpose() - a;
+        const Vector3d ac = from.V.row(from.F(f, 2)).transpose() - a;
+        const auto sample = [&](double v, double w) {
+            const double d = distance(a + v * ab + w * ac);
+            worst = std::max(worst, d);
+            return d;
+        };
+        sample(0.5, 0.0);
+        sample(0.0, 0.5);
+        sample(0.5, 0.5);
+        double sum = 0;
+        for (int i = 0; i < k; ++i)
+            for (int j = 0; i + j < k; ++j) {
+                sum += sample((i + 1.0 / 3) / k, (j + 1.0 / 3) / k);
+                if (i + j + 1 < k) sum += sample((i + 2.0 / 3) / k, (j + 2.0 / 3) / k);
+            }
+        face_mean[f] = sum / (k * k);
+        area[f] = 0.5 * ab.cross(ac).norm();
+    }
+
+    // A mesh of zero area weights its faces equally.
+    const double total_area = std::accumulate(area.begin(), area.end(), 0.0);
+    double weighted = 0;
+    for (int f = 0; f < nf; ++f) weighted += (total_area > 0 ? area[f] : 1.0) * face_mean[f];
+    return {worst, weighted / (total_area > 0 ? total_area : nf),
+            nv + static_cast<long long>(nf) * (static_cast<long long>(k) * k + 3)};
+}
+
+}  // namespace
+
+HausdorffReport hausdorff_distance(const TriangleMesh& a, const TriangleMesh& b, const HausdorffOptions& options) {
+    if (options.samples_per_face < 1 || options.max_samples < 1)
+        throw InvalidArgumentError("hausdorff_distance: samples_per_face (" + std::to_string(options.samples_per_face) +
+                                   ") and max_samples (" + std::to_string(options.max_samples) + ") must be >= 1");
+    const TriangleTree tree_a = tree_of(a, "first");
+    const TriangleTree tree_b = tree_of(b, "second");
+    const OneSided forward = sample_distances(a, tree_b, options);
+    const OneSided backward = sample_distances(b, tree_a, options);
+
+    HausdorffReport report;
+    report.forward = forward.max;
+    report.backward = backward.max;
+    report.hausdorff = std::max(forward.max, backward.max);
+    report.diagonal = tree_a.bounds().diagonal().norm();
+    report.hausdorff_rel = report.hausdorff == 0 ? 0 : report.hausdorff / report.diagonal;
+    report.mean_forward = forward.mean;
+    report.samples = forward.samples + backward.samples;
+    return report;
+}
+
+}  // namespace sdmesh

@@ -1,0 +1,244 @@
+// Conversion to self-Delaunay meshes: termination, certificates, idempotence, and that the split
+// method moves nothing, on adversarial meshes made in code and on the corpus.
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "corpus.hpp"
+#include "meshes.hpp"
+#include "sdmesh/convert.hpp"
+#include "sdmesh/distance.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/io.hpp"
+#include "sdmesh/shapes.hpp"
+#include "sdmesh/validate.hpp"
+
+namespace sdmesh {
+namespace {
+
+using test::make_mesh;
+
+// z += amplitude · sin(3x) cos(2y): makes a planar mesh curved, so its edges are physical.
+TriangleMesh bumpy(TriangleMesh mesh, double amplitude) {
+    for (int v = 0; v < mesh.num_vertices(); ++v)
+        mesh.V(v, 2) += amplitude * std::sin(3 * mesh.V(v, 0)) * std::cos(2 * mesh.V(v, 1));
+    return mesh;
+}
+
+// Generated meshes that stress conversion, by name.
+TriangleMesh adversarial(const std::string& name) {
+    if (name == "skewed_grid") return bumpy(make_grid(12, 10, 1.0, 1.0, 2.5), 0.05);
+    if (name == "needle_band") return bumpy(make_grid(40, 2, 4.0, 0.01), 0.3);  // sides 0.1 x 0.005
+    if (name == "cap_band") {
+        // The middle row pushed almost onto the bottom row: triangles with angles near 180°.
+        TriangleMesh grid = make_grid(12, 2, 1.0, 1.0);
+        for (int i = 0; i <= 12; ++i) grid.V(13 + i, 1) = 0.02;
+        return bumpy(grid, 0.1);
+    }
+    if (name == "valence3") {
+        // A flat tetrahedron: p almost on the face qrs, next to edge qr. Edge qr faces an angle
+        // near 180° at p, and flipping it would create p-s, which exists: it must be split.
+        return make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.9, 0}, {0.5, 0.03, 0.01}},
+                         {{0, 1, 3}, {1, 2, 3}, {2, 0, 3}, {0, 2, 1}});
+    }
+    if (name == "cocircular") {
+        // Squares perturbed by 1e-13: every diagonal is co-circular up to rounding.
+        TriangleMesh grid = make_grid(10, 10);
+        for (int v = 0; v < grid.num_vertices(); ++v) grid.V(v, (v % 2) ? 0 : 1) += 1e-13 * ((v * 7) % 3 - 1);
+        return grid;
+    }
+    if (name == "small_angles") {
+        // A cone with a 4° apex over a bumpy base: needles meeting at small input angles.
+        const int n = 90;
+        TriangleMesh cone;
+        cone.V.resize(n + 2, 3);
+        cone.F.resize(2 * n, 3);
+        cone.V.row(n) << 0, 0, 3;
+        cone.V.row(n + 1) << 0, 0, -0.2;
+        for (int i = 0; i < n; ++i) {
+            const double t = 2 * std::numbers::pi * i / n;
+            cone.V.row(i) << 0.1 * std::cos(t), 0.1 * std::sin(t), 0.05 * std::sin(5 * t);
+            cone.F.row(i) << i, (i + 1) % n, n;
+            cone.F.row(n + i) << (i + 1) % n, i, n + 1;
+        }
+        return cone;
+    }
+    if (name == "improper_idt") {
+        // ALGORITHMS.md §7 (Ye et al. 2020, Fig. 2): its intrinsic Delaunay triangulation has a
+        // self-loop, so no self-Delaunay mesh exists on these vertices alone.
+        return make_mesh({{0.005, 0, 0.130}, {1.732, 1, 0}, {1.732, -1, 0}, {-100, 0, 0}},
+                         {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}});
+    }
+    if (name == "bunny") return read_mesh(std::string(SDMESH_TEST_DATA_DIR) + "/bunny.obj");
+    throw std::invalid_argument(name);
+}
+
+struct Case {
+    std::string mesh;
+    ConvertOptions options;
+    std::string label;
+};
+
+std::string case_name(const ::testing::TestParamInfo<Case>& info) { return info.param.mesh + "_" + info.param.label; }
+
+void PrintTo(const Case& c, std::ostream* out) { *out << c.mesh << " / " << c.label; }
+
+class Convert : public ::testing::TestWithParam<Case> {};
+
+// Terminates, is certified, keeps the topology, has no degenerate face, and a second conversion
+// of the output does nothing.
+TEST_P(Convert, CertifiedAndIdempotent) {
+    const TriangleMesh input = adversarial(GetParam().mesh);
+    const ConvertOptions& options = GetParam().options;
+    const ConversionResult result = convert(input, options);
+    const ConversionReport& r = result.report;
+    ASSERT_EQ(r.status, ConvertStatus::certified) << to_string(r.status);
+    const DelaunayCertificate cert = certify(result.mesh, {.boundary = options.boundary});
+    EXPECT_TRUE(cert.self_delaunay);
+    if (options.boundary == BoundaryPolicy::strict) {  // the free policy allows obtuse boundary angles
+        EXPECT_EQ(cert.negative_cotan_weights, 0);
+        EXPECT_EQ(cert.negative_dual_cells, 0);
+    }
+    EXPECT_EQ(r.output_vertices, input.num_vertices() + (options.method == ConvertMethod::flip ? 0 : r.splits));
+
+    const MeshInfo before = validate(input), after = validate(result.mesh);
+    EXPECT_TRUE(after.manifold());
+    EXPECT_EQ(after.zero_area_faces, 0);
+    EXPECT_EQ(after.orientation_conflicts, 0);
+    EXPECT_EQ(after.genus, before.genus);
+    EXPECT_EQ(after.components, before.components);
+    EXPECT_EQ(after.boundary_loops, before.boundary_loops);
+    EXPECT_EQ(after.euler_characteristic, before.euler_characteristic);
+    EXPECT_TRUE(result.mesh.V.topRows(input.num_vertices()) == input.V);  // input vertices stay
+
+    const ConversionResult again = convert(result.mesh, options);
+    EXPECT_EQ(again.report.flips, 0);
+    EXPECT_EQ(again.report.splits, 0);
+}
+
+// The split method moves nothing: new vertices lie on input edges, faces inside the input
+// surface, and the area is unchanged.
+class ConvertSplit : public Convert {};
+
+TEST_P(ConvertSplit, MovesNothing) {
+    const TriangleMesh input = adversarial(GetParam().mesh);
+    const ConversionResult result = convert(input, GetParam().options);
+    const double diagonal = (input.V.colwise().maxCoeff() - input.V.colwise().minCoeff()).norm();
+    const double tol = 1e-12 * diagonal;
+    EXPECT_EQ(result.report.vertices_inside_faces, 0);
+    for (int v = input.num_vertices(); v < result.mesh.num_vertices(); ++v) {
+        const Eigen::Vector3d x = result.mesh.V.row(v);
+        double nearest = std::numeric_limits<double>::infinity();
+        for (int f = 0; f < input.num_faces(); ++f)
+            for (int k = 0; k < 3; ++k) {
+                const Eigen::Vector3d a = input.V.row(input.F(f, k)), b = input.V.row(input.F(f, (k + 1) % 3));
+                const double t = std::clamp((x - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+                nearest = std::min(nearest, (a + t * (b - a) - x).norm());
+            }
+        EXPECT_LE(nearest, tol) << "vertex " << v;
+    }
+    const TriangleTree surface(input);
+    for (int f = 0; f < result.mesh.num_faces(); ++f) {
+        Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+        for (int k = 0; k < 3; ++k) centroid += result.mesh.V.row(result.mesh.F(f, k)) / 3.0;
+        EXPECT_LE(std::sqrt(surface.closest_point(centroid).squared_distance), tol) << "face " << f;
+    }
+    EXPECT_NEAR(test::total_area(result.mesh), test::total_area(input), 1e-12 * test::total_area(input));
+    EXPECT_EQ(result.report.hausdorff_rel, 0.0);
+}
+
+std::vector<Case> cases() {
+    std::vector<Case> all;
+    for (const char* mesh : {"skewed_grid", "needle_band", "cap_band", "valence3", "cocircular", "small_angles",
+                             "improper_idt", "bunny"}) {
+        all.push_back({mesh, {}, "split_interval"});
+        all.push_back({mesh, {.split_rule = SplitRule::shell}, "split_shell"});
+        for (int degrees : {5, 10, 20})
+            all.push_back({mesh, {.method = ConvertMethod::hybrid, .max_dihedral_deg = double(degrees)},
+                           "hybrid" + std::to_string(degrees)});
+        all.push_back({mesh, {.boundary = BoundaryPolicy::free}, "split_free_boundary"});
+    }
+    return all;
+}
+
+std::vector<Case> split_cases() {
+    std::vector<Case> split;
+    for (const Case& c : cases())
+        if (c.options.method == ConvertMethod::split) split.push_back(c);
+    return split;
+}
+
+INSTANTIATE_TEST_SUITE_P(Adversarial, Convert, ::testing::ValuesIn(cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(Adversarial, ConvertSplit, ::testing::ValuesIn(split_cases()), case_name);
+
+TEST(ConvertMethods, FlipCannotFixTheFlatTetrahedron) {
+    const ConversionResult result = convert(adversarial("valence3"), {.method = ConvertMethod::flip});
+    EXPECT_EQ(result.report.status, ConvertStatus::not_certified);
+    EXPECT_GT(result.report.unflippable_edges, 0);
+    EXPECT_EQ(result.report.splits, 0);
+}
+
+// Flips only: fewer non-Delaunay edges, the ones left counted as unflippable, the status saying
+// whether the output is certified, and the surface change measured.
+TEST(ConvertMethods, FlipMethodReportsWhatIsLeft) {
+    const TriangleMesh input = adversarial("skewed_grid");
+    const ConversionResult result = convert(input, {.method = ConvertMethod::flip});
+    const ConversionReport& r = result.report;
+    EXPECT_EQ(r.splits, 0);
+    EXPECT_GT(r.flips, 0);
+    EXPECT_EQ(result.mesh.num_vertices(), input.num_vertices());
+    EXPECT_EQ(r.unflippable_edges, r.certificate.non_delaunay_edges + r.certificate.boundary_obtuse_edges);
+    EXPECT_LT(r.unflippable_edges, r.input_non_delaunay_edges);
+    EXPECT_EQ(r.status, r.unflippable_edges == 0 ? ConvertStatus::certified : ConvertStatus::not_certified);
+    EXPECT_GT(r.hausdorff_rel, 0.0);  // flips of curved hinges move the surface
+    EXPECT_LT(r.hausdorff_rel, 0.05);
+}
+
+TEST(ConvertMethods, BudgetTurnsIntoAStatus) {
+    const TriangleMesh bunny = adversarial("bunny");
+    const ConversionResult result = convert(bunny, {.max_vertices = bunny.num_vertices() + 5});
+    EXPECT_EQ(result.report.status, ConvertStatus::budget_exhausted);
+    EXPECT_LE(result.mesh.num_vertices(), bunny.num_vertices() + 5);
+    EXPECT_TRUE(validate(result.mesh).manifold());
+}
+
+TEST(ConvertMethods, RejectsInvalidInput) {
+    const TriangleMesh fin = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}},
+                                       {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+    EXPECT_THROW(convert(fin), InvalidMeshError);
+    TriangleMesh twisted = make_icosphere(1);
+    std::swap(twisted.F(0, 1), twisted.F(0, 2));
+    EXPECT_THROW(convert(twisted), InvalidMeshError);
+    EXPECT_THROW(convert(make_icosphere(1), {.max_dihedral_deg = 200}), InvalidArgumentError);
+}
+
+// Real meshes (the smaller manifold ones; the large ones are in experiments/).
+class ConvertCorpus : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ConvertCorpus, SplitAndHybridAreCertified) {
+    if (!test::corpus_available()) GTEST_SKIP() << "corpus not found at " << test::corpus_dir();
+    const TriangleMesh input = read_mesh(test::corpus_dir() / GetParam());
+    for (const ConvertOptions& options :
+         {ConvertOptions{}, ConvertOptions{.method = ConvertMethod::hybrid, .max_dihedral_deg = 10}}) {
+        const ConversionResult result = convert(input, options);
+        EXPECT_EQ(result.report.status, ConvertStatus::certified) << to_string(options.method);
+        EXPECT_EQ(result.report.certificate.negative_dual_cells, 0) << to_string(options.method);
+        EXPECT_EQ(validate(result.mesh).zero_area_faces, 0);
+        // Each non-flat non-Delaunay input edge needs at least one new vertex (ALGORITHMS.md §3).
+        if (options.method == ConvertMethod::split) {
+            EXPECT_GE(result.report.splits, result.report.input_nonflat_non_delaunay_edges);
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, ConvertCorpus,
+                         ::testing::Values("cgal_elk.off", "npm_bunny.obj", "cgal_couplingdown.off",
+                                           "cgal_mushroom.off", "cgal_cheese.off", "oded_spot.obj"),
+                         [](const auto& param) { return param.param.substr(0, param.param.find('.')); });
+
+}  // namespace
+}  // namespace sdmesh
