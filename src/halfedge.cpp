@@ -7,18 +7,22 @@
 namespace sdmesh {
 
 HalfedgeMesh::HalfedgeMesh(const Triangulation& t)
-    : num_vertices_(t.num_vertices),
-      corner_(3 * static_cast<size_t>(t.num_faces())),
+    : HalfedgeMesh(t.F, t.face_edge, t.edge_halfedges, t.num_vertices) {}
+
+HalfedgeMesh::HalfedgeMesh(const Eigen::MatrixX3i& F, const Eigen::MatrixX3i& face_edge,
+                           const Eigen::MatrixX2i& edge_halfedges, int num_vertices)
+    : num_vertices_(num_vertices),
+      corner_(3 * static_cast<size_t>(F.rows())),
       twin_(corner_.size(), -1),
       edge_(corner_.size()),
-      edge_halfedge_(static_cast<size_t>(t.num_edges())) {
-    for (int f = 0; f < t.num_faces(); ++f)
+      edge_halfedge_(static_cast<size_t>(edge_halfedges.rows())) {
+    for (int f = 0; f < F.rows(); ++f)
         for (int k = 0; k < 3; ++k) {
-            corner_[3 * f + k] = t.F(f, k);
-            edge_[3 * f + k] = t.face_edge(f, k);
+            corner_[3 * f + k] = F(f, k);
+            edge_[3 * f + k] = face_edge(f, k);
         }
-    for (int e = 0; e < t.num_edges(); ++e) {
-        const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
+    for (int e = 0; e < edge_halfedges.rows(); ++e) {
+        const int h0 = edge_halfedges(e, 0), h1 = edge_halfedges(e, 1);
         edge_halfedge_[e] = h0;
         if (h1 >= 0) twin_[h0] = h1, twin_[h1] = h0;
     }

@@ -17,6 +17,11 @@ public:
     /// and orientation are kept.
     explicit HalfedgeMesh(const Triangulation& t);
 
+    /// The same from the connectivity arrays alone (as in Triangulation or EdgeTable).
+    /// \pre at most two faces per edge, no face with a repeated index.
+    HalfedgeMesh(const Eigen::MatrixX3i& F, const Eigen::MatrixX3i& face_edge,
+                 const Eigen::MatrixX2i& edge_halfedges, int num_vertices);
+
     [[nodiscard]] int num_vertices() const { return num_vertices_; }
     [[nodiscard]] int num_faces() const { return static_cast<int>(corner_.size() / 3); }
     [[nodiscard]] int num_edges() const { return static_cast<int>(edge_halfedge_.size()); }

@@ -149,8 +149,10 @@ MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges) {
         double l[3];
         for (int k = 0; k < 3; ++k) l[k] = (V.row(F(f, (k + 1) % 3)) - V.row(F(f, (k + 2) % 3))).norm();
         const double longest = std::max({l[0], l[1], l[2]});
-        if (std::isfinite(longest) && triangle_area(l[0], l[1], l[2]) <= 1e-12 * longest * longest)
+        if (std::isfinite(longest) && triangle_area(l[0], l[1], l[2]) <= 1e-12 * longest * longest) {
+            if (info.zero_area_faces == 0) info.first_zero_area_face = f;
             ++info.zero_area_faces;
+        }
     }
     info.degenerate_faces = info.repeated_index_faces + info.zero_area_faces;
     const std::vector<char> duplicate = duplicate_faces(F);

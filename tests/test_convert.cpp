@@ -214,6 +214,8 @@ TEST(ConvertMethods, RejectsInvalidInput) {
     std::swap(twisted.F(0, 1), twisted.F(0, 2));
     EXPECT_THROW(convert(twisted), InvalidMeshError);
     EXPECT_THROW(convert(make_icosphere(1), {.max_dihedral_deg = 200}), InvalidArgumentError);
+    const TriangleMesh flat = make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{0, 1, 2}});
+    EXPECT_THROW(convert(flat), InvalidMeshError);  // zero area
 }
 
 // Real meshes (the smaller manifold ones; the large ones are in experiments/).

@@ -39,6 +39,7 @@ struct MeshInfo {
     int first_nonmanifold_vertex = -1;
     int first_repeated_index_face = -1;
     int first_non_finite_vertex = -1;
+    int first_zero_area_face = -1;
 
     /// No non-manifold edge or vertex and no face with a repeated index.
     [[nodiscard]] bool manifold() const {
