@@ -4,36 +4,63 @@
 #include <cstdint>
 #include <numeric>
 
-#include "union_find.hpp"
 
 namespace sdmesh {
 namespace {
 
-// Corners of one vertex are in one fan when joined through manifold edges:
-// fans(v) = corners(v) - successful unions at v.
+// A vertex is manifold when walking from one of its corners across the manifold edges around it
+// (both ways where the fan is open) reaches all of its corners. Each walk stays inside one
+// vertex's star, so the vertices are independent and the loop runs in parallel.
 std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const EdgeTable& table,
                                            const std::vector<char>& valid_face, int num_vertices) {
     const int num_faces = static_cast<int>(F.rows());
-    UnionFind corners(3 * num_faces);
-    std::vector<int> fans(static_cast<size_t>(num_vertices), 0);
-    for (int k = 0; k < 3; ++k)
-        for (int f = 0; f < num_faces; ++f) fans[F(f, k)] += valid_face[f];
-    // The corner of halfedge h's face at vertex v, one of h's two endpoints.
-    auto corner_at = [&F](int h, int v) {
-        const int f = h / 3, next = (h % 3 + 1) % 3;
-        return 3 * f + (F(f, next) == v ? next : (next + 1) % 3);
-    };
-    for (int e = 0; e < table.num_edges(); ++e) {
-        if (table.face_count[e] != 2) continue;
-        const int h0 = table.edge_halfedges(e, 0), h1 = table.edge_halfedges(e, 1);
-        for (int side = 0; side < 2; ++side) {
-            const int v = table.E(e, side);
-            if (corners.unite(corner_at(h0, v), corner_at(h1, v))) --fans[v];
+    const int num_halfedges = 3 * num_faces;
+    // The other halfedge of a manifold edge; -1 on boundary and non-manifold edges.
+    std::vector<int> twin(static_cast<size_t>(num_halfedges), -1);
+    std::vector<int> corners(static_cast<size_t>(num_vertices), 0), first(static_cast<size_t>(num_vertices), -1);
+#pragma omp parallel for schedule(static)
+    for (int e = 0; e < table.num_edges(); ++e)
+        if (table.face_count[e] == 2) {
+            twin[table.edge_halfedges(e, 0)] = table.edge_halfedges(e, 1);
+            twin[table.edge_halfedges(e, 1)] = table.edge_halfedges(e, 0);
         }
+    for (int c = 0; c < num_halfedges; ++c) {
+        if (!valid_face[c / 3]) continue;
+        const int v = F(c / 3, c % 3);
+        ++corners[v];
+        if (first[v] < 0) first[v] = c;
+    }
+    // Corner c = 3f + k touches the two sides next(c) and prev(c) of its face. The walk crosses a
+    // side to the twin's face, finds the vertex's corner there and leaves by that face's other
+    // side at the vertex; this does not assume a consistent orientation.
+    auto next = [](int c) { return c - c % 3 + (c % 3 + 1) % 3; };
+    auto prev = [](int c) { return c - c % 3 + (c % 3 + 2) % 3; };
+    auto corner_in_face = [&F](int h, int v) {
+        const int base = h - h % 3;
+        return F(base / 3, 0) == v ? base : F(base / 3, 1) == v ? base + 1 : base + 2;
+    };
+    std::vector<char> bad(static_cast<size_t>(num_vertices), 0);
+#pragma omp parallel for schedule(dynamic, 4096)
+    for (int v = 0; v < num_vertices; ++v) {
+        if (corners[v] == 0) continue;
+        const int start = first[v];
+        int seen = 1;
+        bool closed = false;
+        for (const int start_side : {prev(start), next(start)}) {
+            for (int side = start_side; !closed && seen <= corners[v];) {
+                const int across = twin[side];
+                if (across < 0) break;
+                const int c = corner_in_face(across, v);
+                if (c == start) closed = true;
+                else ++seen, side = prev(c) == across ? next(c) : prev(c);
+            }
+            if (closed) break;
+        }
+        bad[v] = seen != corners[v];
     }
     std::vector<int> result;
     for (int v = 0; v < num_vertices; ++v)
-        if (fans[v] > 1) result.push_back(v);
+        if (bad[v]) result.push_back(v);
     return result;
 }
 
