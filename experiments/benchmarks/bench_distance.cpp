@@ -2,25 +2,17 @@
 // vertex moved (what a conversion or decimation report costs).
 //   bench_distance [--benchmark_filter=...]   mesh: $SDMESH_BENCH_MESH or the koala.
 
-#include <cstdlib>
 #include <string>
 
 #include <benchmark/benchmark.h>
 
+#include "benchmark_mesh.hpp"
 #include "sdmesh/distance.hpp"
 #include "sdmesh/io.hpp"
 
 namespace {
 
-std::string mesh_path() {
-    if (const char* path = std::getenv("SDMESH_BENCH_MESH")) return path;
-    return std::string(SDMESH_CORPUS_DIR) + "/oded_koala.obj";
-}
-
-const sdmesh::TriangleMesh& mesh() {
-    static const sdmesh::TriangleMesh loaded = sdmesh::read_mesh(mesh_path());
-    return loaded;
-}
+const sdmesh::TriangleMesh& mesh() { return sdmesh::bench::mesh("oded_koala.obj"); }
 
 // The mesh with vertex 0 moved by 1% of its bounding-box diagonal.
 const sdmesh::TriangleMesh& moved() {

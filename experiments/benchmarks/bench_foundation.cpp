@@ -1,29 +1,23 @@
 // Read, validate and certify the largest corpus mesh (issue: foundation).
 //   bench_foundation [--benchmark_filter=...]   mesh: $SDMESH_BENCH_MESH or the 1.6M-face skull.
 
-#include <cstdlib>
 #include <string>
 
 #include <benchmark/benchmark.h>
 
+#include "benchmark_mesh.hpp"
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/validate.hpp"
 
 namespace {
 
-std::string mesh_path() {
-    if (const char* path = std::getenv("SDMESH_BENCH_MESH")) return path;
-    return std::string(SDMESH_CORPUS_DIR) + "/oded_skull_midsub2.obj.gz";
-}
+constexpr const char* kMesh = "oded_skull_midsub2.obj.gz";
 
-const sdmesh::TriangleMesh& mesh() {
-    static const sdmesh::TriangleMesh loaded = sdmesh::read_mesh(mesh_path());
-    return loaded;
-}
+const sdmesh::TriangleMesh& mesh() { return sdmesh::bench::mesh(kMesh); }
 
 void BM_Read(benchmark::State& state) {
-    for (auto _ : state) benchmark::DoNotOptimize(sdmesh::read_mesh(mesh_path()));
+    for (auto _ : state) benchmark::DoNotOptimize(sdmesh::read_mesh(sdmesh::bench::mesh_path(kMesh)));
     state.counters["faces"] = mesh().num_faces();
 }
 
@@ -45,7 +39,7 @@ void BM_Certificate(benchmark::State& state) {
 
 void BM_CheckEndToEnd(benchmark::State& state) {
     for (auto _ : state) {
-        const auto m = sdmesh::read_mesh(mesh_path());
+        const auto m = sdmesh::read_mesh(sdmesh::bench::mesh_path(kMesh));
         const auto edges = sdmesh::build_edge_table(m.F, m.num_vertices());
         benchmark::DoNotOptimize(sdmesh::validate(m, edges));
         benchmark::DoNotOptimize(sdmesh::certify(m, edges));

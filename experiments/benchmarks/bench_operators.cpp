@@ -7,28 +7,20 @@
 
 #include <omp.h>
 
-#include <cstdlib>
 #include <string>
 #include <vector>
 
 #include <Eigen/SparseCore>
 #include <benchmark/benchmark.h>
 
+#include "benchmark_mesh.hpp"
 #include "sdmesh/geometry.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/operators.hpp"
 
 namespace {
 
-std::string mesh_path() {
-    if (const char* path = std::getenv("SDMESH_BENCH_MESH")) return path;
-    return std::string(SDMESH_CORPUS_DIR) + "/igea_midsub1.obj.gz";
-}
-
-const sdmesh::TriangleMesh& mesh() {
-    static const sdmesh::TriangleMesh loaded = sdmesh::read_mesh(mesh_path());
-    return loaded;
-}
+const sdmesh::TriangleMesh& mesh() { return sdmesh::bench::mesh("igea_midsub1.obj.gz"); }
 
 const sdmesh::Triangulation& triangulation() {
     static const sdmesh::Triangulation t = sdmesh::Triangulation::from_mesh(mesh());

@@ -1,0 +1,38 @@
+// Conversion to a self-Delaunay mesh (issue: conversion front end), on the 1.6M-face skull by
+// default; peak memory: run under /usr/bin/time -v.
+//   bench_convert [--benchmark_filter=...]   mesh: $SDMESH_BENCH_MESH or oded_skull_midsub2.obj.gz
+
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "benchmark_mesh.hpp"
+#include "sdmesh/convert.hpp"
+#include "sdmesh/io.hpp"
+
+namespace {
+
+const sdmesh::TriangleMesh& mesh() { return sdmesh::bench::mesh("oded_skull_midsub2.obj.gz"); }
+
+void run(benchmark::State& state, const sdmesh::ConvertOptions& options) {
+    sdmesh::ConversionReport report;
+    for (auto _ : state) report = sdmesh::convert(mesh(), options).report;
+    state.counters["faces"] = static_cast<double>(report.input_faces);
+    state.counters["input_non_delaunay"] = static_cast<double>(report.input_non_delaunay_edges);
+    state.counters["added_vertices"] = static_cast<double>(report.output_vertices - report.input_vertices);
+    state.counters["flips"] = static_cast<double>(report.flips);
+    state.counters["certified"] = report.status == sdmesh::ConvertStatus::certified;
+}
+
+void BM_ConvertSplitInterval(benchmark::State& state) { run(state, {}); }
+void BM_ConvertSplitShell(benchmark::State& state) { run(state, {.split_rule = sdmesh::SplitRule::shell}); }
+void BM_ConvertHybrid10NoHausdorff(benchmark::State& state) {
+    run(state, {.method = sdmesh::ConvertMethod::hybrid, .max_dihedral_deg = 10, .measure_hausdorff = false});
+}
+
+}  // namespace
+
+BENCHMARK(BM_ConvertSplitInterval)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_ConvertSplitShell)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_ConvertHybrid10NoHausdorff)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK_MAIN();
