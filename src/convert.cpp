@@ -105,7 +105,7 @@ private:
         return {h, mesh_.tail(h), mesh_.head(h), mesh_.opposite_vertex(h), t < 0 ? -1 : mesh_.opposite_vertex(t)};
     }
 
-    double dist(int u, int v) const { return (P_[u] - P_[v]).norm(); }
+    double dist(int u, int v) const { return distance(P_[u], P_[v]); }
 
     bool is_delaunay(int e) const {
         const Hinge k = hinge(e);

@@ -76,7 +76,7 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
             continue;
         }
         const Eigen::Vector3d &p = P[F(f, 0)], &q = P[F(f, 1)], &r = P[F(f, 2)];
-        const double l[3] = {(r - q).norm(), (p - r).norm(), (q - p).norm()};
+        const double l[3] = {distance(r, q), distance(p, r), distance(q, p)};
         t.area4 = 4.0 * triangle_area(l[0], l[1], l[2]);
         for (int k = 0; k < 3; ++k) t.cosine[k] = cosine_numerator(l[k], l[(k + 1) % 3], l[(k + 2) % 3]);
         t.center = circumcenter(p, q, r);
@@ -117,7 +117,8 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
             continue;
         }
         cert.edge_margin[e] = margin;
-        dual_term[e] = (P[edges.E(e, 1)] - P[edges.E(e, 0)]).squaredNorm() * cot_sum / 8.0;
+        const double l = distance(P[edges.E(e, 1)], P[edges.E(e, 0)]);
+        dual_term[e] = l * l * cot_sum / 8.0;
     }
     cert.interior_edges = interior;
     cert.boundary_edges = boundary;

@@ -91,40 +91,42 @@ EdgeTable build_edge_table(const Eigen::MatrixX3i& F, int num_vertices) {
             }
     }
 
+    // Sort each bucket and count its distinct upper endpoints (buckets are independent, so in
+    // parallel); a prefix sum then gives every bucket the range of edge ids it numbers.
+    std::vector<int> edge_start(static_cast<size_t>(num_vertices) + 1, 0);
+    auto is_new_edge = [&keys](std::size_t i, std::size_t begin) { return i == begin || (keys[i] >> 32) != (keys[i - 1] >> 32); };
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (int v = 0; v < num_vertices; ++v) {
+        const std::size_t begin = bucket_start[v], end = bucket_start[v + 1];
+        std::sort(keys.begin() + static_cast<std::ptrdiff_t>(begin), keys.begin() + static_cast<std::ptrdiff_t>(end));
+        int count = 0;
+        for (std::size_t i = begin; i < end; ++i) count += is_new_edge(i, begin);
+        edge_start[v + 1] = count;
+    }
+    std::partial_sum(edge_start.begin(), edge_start.end(), edge_start.begin());
+    const int num_edges = edge_start.back();
+
     EdgeTable table;
     table.face_edge.setConstant(num_faces, 3, -1);
-    std::vector<int> lo_of, hi_of, first, second;
-    lo_of.reserve(keys.size() / 2 + 1);
-    hi_of.reserve(keys.size() / 2 + 1);
-    first.reserve(keys.size() / 2 + 1);
-    second.reserve(keys.size() / 2 + 1);
-    table.face_count.reserve(keys.size() / 2 + 1);
+    table.E.resize(num_edges, 2);
+    table.edge_halfedges.setConstant(num_edges, 2, -1);
+    table.face_count.assign(static_cast<std::size_t>(num_edges), 0);
+#pragma omp parallel for schedule(dynamic, 1024)
     for (int v = 0; v < num_vertices; ++v) {
-        const auto begin = keys.begin() + bucket_start[v], end = keys.begin() + bucket_start[v + 1];
-        std::sort(begin, end);
-        for (auto run = begin; run != end;) {
-            const std::uint64_t hi = *run >> 32;
-            const int e = static_cast<int>(lo_of.size());
-            lo_of.push_back(v);
-            hi_of.push_back(static_cast<int>(hi));
-            first.push_back(static_cast<int>(*run & 0xffffffffu));
-            second.push_back(-1);
-            int count = 0;
-            for (; run != end && (*run >> 32) == hi; ++run, ++count) {
-                const int h = static_cast<int>(*run & 0xffffffffu);
-                table.face_edge(h / 3, h % 3) = e;
-                if (count == 1) second.back() = h;
+        const std::size_t begin = bucket_start[v], end = bucket_start[v + 1];
+        int e = edge_start[v] - 1;
+        for (std::size_t i = begin; i < end; ++i) {
+            const int h = static_cast<int>(keys[i] & 0xffffffffu);
+            if (is_new_edge(i, begin)) {
+                ++e;
+                table.E(e, 0) = v;
+                table.E(e, 1) = static_cast<int>(keys[i] >> 32);
             }
-            table.face_count.push_back(count);
+            table.face_edge(h / 3, h % 3) = e;
+            const int rank = table.face_count[e]++;
+            if (rank < 2) table.edge_halfedges(e, rank) = h;
         }
     }
-    const auto num_edges = static_cast<Eigen::Index>(lo_of.size());
-    table.E.resize(num_edges, 2);
-    table.E.col(0) = Eigen::Map<const Eigen::VectorXi>(lo_of.data(), num_edges);
-    table.E.col(1) = Eigen::Map<const Eigen::VectorXi>(hi_of.data(), num_edges);
-    table.edge_halfedges.resize(num_edges, 2);
-    table.edge_halfedges.col(0) = Eigen::Map<const Eigen::VectorXi>(first.data(), num_edges);
-    table.edge_halfedges.col(1) = Eigen::Map<const Eigen::VectorXi>(second.data(), num_edges);
     table.nonmanifold_vertices = find_nonmanifold_vertices(F, table, valid_face, num_vertices);
     return table;
 }

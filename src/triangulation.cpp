@@ -39,14 +39,30 @@ Triangulation connectivity(const Eigen::MatrixX3i& F, int num_vertices) {
     return t;
 }
 
+// Positive finite lengths and faces of positive area: all that a triangulation assembled by
+// connectivity() can still get wrong.
+void check_geometry(const Triangulation& t) {
+    auto fail = [](const std::string& what) { throw InvalidMeshError("triangulation: " + what); };
+    const int ne = t.num_edges(), nf = t.num_faces();
+    const auto& length = t.length;
+    for (int e = 0; e < ne; ++e)
+        if (!(length[e] > 0) || !std::isfinite(length[e]))
+            fail("edge " + std::to_string(e) + " has length " + std::to_string(length[e]));
+    for (int f = 0; f < nf; ++f)
+        if (!(triangle_area(t.side(f, 0), t.side(f, 1), t.side(f, 2)) > 0))
+            fail("face " + std::to_string(f) + " has zero area (sides " + std::to_string(t.side(f, 0)) + ", " +
+                 std::to_string(t.side(f, 1)) + ", " + std::to_string(t.side(f, 2)) + ")");
+}
+
 }  // namespace
 
 Triangulation Triangulation::from_mesh(const TriangleMesh& mesh) {
     require_finite_positions(mesh);
     Triangulation t = connectivity(mesh.F, mesh.num_vertices());
     t.length.resize(t.num_edges());
-    for (int e = 0; e < t.num_edges(); ++e) t.length[e] = (mesh.V.row(t.E(e, 1)) - mesh.V.row(t.E(e, 0))).norm();
-    t.check();
+    for (int e = 0; e < t.num_edges(); ++e)
+        t.length[e] = distance(mesh.V.row(t.E(e, 0)).transpose(), mesh.V.row(t.E(e, 1)).transpose());
+    check_geometry(t);
     return t;
 }
 
@@ -69,7 +85,7 @@ Triangulation Triangulation::from_side_lengths(const Eigen::MatrixX3i& F, const 
         }
         t.length[e] = l0;
     }
-    t.check();
+    check_geometry(t);
     return t;
 }
 
@@ -92,13 +108,7 @@ void Triangulation::check() const {
             if (edge_halfedges(e, 0) != h && edge_halfedges(e, 1) != h)
                 fail("edge " + std::to_string(e) + " does not list halfedge " + std::to_string(h));
         }
-    for (int e = 0; e < ne; ++e)
-        if (!(length[e] > 0) || !std::isfinite(length[e]))
-            fail("edge " + std::to_string(e) + " has length " + std::to_string(length[e]));
-    for (int f = 0; f < nf; ++f)
-        if (!(triangle_area(side(f, 0), side(f, 1), side(f, 2)) > 0))
-            fail("face " + std::to_string(f) + " has zero area (sides " + std::to_string(side(f, 0)) + ", " +
-                 std::to_string(side(f, 1)) + ", " + std::to_string(side(f, 2)) + ")");
+    check_geometry(*this);
 }
 
 }  // namespace sdmesh

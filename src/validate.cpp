@@ -147,7 +147,8 @@ MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges) {
             continue;
         }
         double l[3];
-        for (int k = 0; k < 3; ++k) l[k] = (V.row(F(f, (k + 1) % 3)) - V.row(F(f, (k + 2) % 3))).norm();
+        for (int k = 0; k < 3; ++k)
+            l[k] = distance(V.row(F(f, (k + 1) % 3)).transpose(), V.row(F(f, (k + 2) % 3)).transpose());
         const double longest = std::max({l[0], l[1], l[2]});
         if (std::isfinite(longest) && triangle_area(l[0], l[1], l[2]) <= 1e-12 * longest * longest) {
             if (info.zero_area_faces == 0) info.first_zero_area_face = f;

@@ -13,6 +13,13 @@
 
 namespace sdmesh {
 
+/// |p - q|, summed in a fixed order ((x² + y²) + z²), so that every module computes the same bits
+/// for the same edge, whichever end it starts from.
+[[nodiscard]] inline double distance(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+    const double dx = p.x() - q.x(), dy = p.y() - q.y(), dz = p.z() - q.z();
+    return std::sqrt((dx * dx + dy * dy) + dz * dz);
+}
+
 /// Triangle area from its three side lengths by Kahan's formula (accurate also for needles).
 /// Lengths that violate the triangle inequality (by rounding or otherwise) give 0.
 [[nodiscard]] inline double triangle_area(double a, double b, double c) {
