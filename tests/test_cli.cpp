@@ -1,18 +1,14 @@
 // The `sdmesh` executable: exit codes, one-line errors and the JSON keys scripts rely on.
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "cli_runner.hpp"
 #include "meshes.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/shapes.hpp"
@@ -22,47 +18,25 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-    int code = -1;
-    std::string out, err;
-};
-
-Outcome run(const std::string& arguments) {
-    const fs::path err_file = fs::temp_directory_path() / ("sdmesh_cli_test_" + std::to_string(::getpid()) + ".err");
-    const std::string command = std::string(SDMESH_CLI) + " " + arguments + " 2>" + err_file.string();
-    Outcome result;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    char buffer[4096];
-    for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) result.out.append(buffer, n);
-    const int status = ::pclose(pipe);
-    result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream err(err_file);
-    std::stringstream ss;
-    ss << err.rdbuf();
-    result.err = ss.str();
-    fs::remove(err_file);
-    return result;
-}
+using test::CliRun;
+using test::run_cli;
 
 class Cli : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("sdmesh_cli_" + std::to_string(::getpid()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    std::string path(const std::string& name) const { return (folder_.path() / name).string(); }
     std::string write_text(const std::string& name, const std::string& text) const {
         std::ofstream(path(name)) << text;
         return path(name);
     }
-    fs::path dir_;
+
+private:
+    test::TemporaryFolder folder_{"sdmesh_cli"};
 };
 
 const std::string kBunny = std::string(SDMESH_TEST_DATA_DIR) + "/bunny.obj";
 
 TEST_F(Cli, CheckJsonHasTheDocumentedKeys) {
-    const Outcome r = run("check " + kBunny + " --json");
+    const CliRun r = run_cli("check " + kBunny + " --json");
     EXPECT_EQ(r.code, 1) << r.err;  // the bunny has non-Delaunay edges
     for (const char* key :
          {"vertices", "faces", "edges", "components", "boundary_edges", "boundary_loops", "nonmanifold_edges",
@@ -76,21 +50,21 @@ TEST_F(Cli, CheckJsonHasTheDocumentedKeys) {
 
 TEST_F(Cli, SelfDelaunayMeshExitsZero) {
     write_mesh(path("sphere.off"), make_icosphere(2));
-    const Outcome r = run("check " + path("sphere.off"));
+    const CliRun r = run_cli("check " + path("sphere.off"));
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("self-Delaunay"), std::string::npos);
-    EXPECT_EQ(run("info " + path("sphere.off")).code, 0);
+    EXPECT_EQ(run_cli("info " + path("sphere.off")).code, 0);
 }
 
 TEST_F(Cli, BoundaryPolicyChangesTheVerdict) {
     write_mesh(path("obtuse.obj"), test::make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.1, 0}}, {{0, 1, 2}}));
-    EXPECT_EQ(run("check " + path("obtuse.obj")).code, 1);
-    EXPECT_EQ(run("check " + path("obtuse.obj") + " --boundary free").code, 0);
+    EXPECT_EQ(run_cli("check " + path("obtuse.obj")).code, 1);
+    EXPECT_EQ(run_cli("check " + path("obtuse.obj") + " --boundary free").code, 0);
 }
 
 TEST_F(Cli, NonManifoldMeshIsReportedNotRejected) {
     const std::string fin = write_text("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
-    const Outcome r = run("check " + fin + " --json");
+    const CliRun r = run_cli("check " + fin + " --json");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("\"nonmanifold_edges\": 1"), std::string::npos);
     EXPECT_NE(r.err.find("edge (0, 1) has more than two faces"), std::string::npos) << r.err;
@@ -100,19 +74,19 @@ TEST_F(Cli, RepairWeldsAndOrientsASoup) {
     // Two triangles of a square written as a soup, the second one wound the other way.
     const std::string soup = write_text("soup.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\n"
                                                     "f 1 2 3\nf 4 6 5\nf 4 6 6\n");
-    const Outcome r = run("repair " + soup + " " + path("fixed.off"));
+    const CliRun r = run_cli("repair " + soup + " " + path("fixed.off"));
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("\"merged_vertices\": 2"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("\"flipped_faces\": 1"), std::string::npos) << r.out;
     const TriangleMesh fixed = read_mesh(path("fixed.off"));
     EXPECT_EQ(fixed.num_vertices(), 4);
     EXPECT_EQ(fixed.num_faces(), 2);
-    EXPECT_EQ(run("check " + path("fixed.off") + " --json").code, 0);  // two right triangles
+    EXPECT_EQ(run_cli("check " + path("fixed.off") + " --json").code, 0);  // two right triangles
 }
 
 TEST_F(Cli, ErrorsHaveDistinctExitCodesAndOneLine) {
     auto expect_error = [](const std::string& arguments, int code, const std::string& mention) {
-        const Outcome r = run(arguments);
+        const CliRun r = run_cli(arguments);
         EXPECT_EQ(r.code, code) << arguments << "\n" << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << arguments << "\n" << r.err;
         EXPECT_NE(r.err.find(mention), std::string::npos) << arguments << "\n" << r.err;

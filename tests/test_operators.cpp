@@ -2,8 +2,6 @@
 // mass totals, Gauss–Bonnet, linear precision, the unit-sphere spectrum, determinism, the CLI.
 
 #include <omp.h>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -26,6 +24,7 @@
 #include <gtest/gtest.h>
 
 #include "corpus.hpp"
+#include "cli_runner.hpp"
 #include "meshes.hpp"
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/error.hpp"
@@ -602,13 +601,6 @@ TEST(Determinism, BitIdenticalForOneAndSeveralThreads) {
 
 // ---- Matrix Market files and the CLI ------------------------------------------------------------------
 
-std::string read_text(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 // A reader for the coordinate real general files we write (duplicates are summed, as mmread does).
 Sparse parse_matrix_market(const std::string& text) {
     std::istringstream in(text);
@@ -630,14 +622,12 @@ Sparse parse_matrix_market(const std::string& text) {
     return m;
 }
 
+using test::read_text;
+
 class Files : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("sdmesh_operators_" + std::to_string(::getpid()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    fs::path dir_;
+    test::TemporaryFolder folder_{"sdmesh_operators"};
+    const fs::path& dir_ = folder_.path();
 };
 
 TEST_F(Files, MatrixMarketRoundTripsExactly) {
@@ -667,29 +657,14 @@ TEST_F(Files, MatrixMarketWriteFailureLeavesNothing) {
     EXPECT_TRUE(fs::is_empty(dir_));
 }
 
-struct CliRun {
-    int code = -1;
-    std::string out, err;
-};
-
-CliRun run_cli(const std::string& arguments, const fs::path& err_file) {
-    const std::string command = std::string(SDMESH_CLI) + " " + arguments + " 2>" + err_file.string();
-    CliRun result;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    char buffer[4096];
-    for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) result.out.append(buffer, n);
-    const int status = ::pclose(pipe);
-    result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    result.err = read_text(err_file);
-    return result;
-}
+using test::CliRun;
+using test::run_cli;
 
 TEST_F(Files, CliWritesOperatorsThatMatchTheLibrary) {
     const TriangleMesh mesh = make_icosphere(2);
     write_mesh(dir_ / "sphere.off", mesh);
     const fs::path out = dir_ / "out" / "sphere";  // created, parents included
-    const CliRun r = run_cli("operators " + (dir_ / "sphere.off").string() + " --out " + out.string() + " --mass galerkin",
-                          dir_ / "err.txt");
+    const CliRun r = run_cli("operators " + (dir_ / "sphere.off").string() + " --out " + out.string() + " --mass galerkin");
     ASSERT_EQ(r.code, 0) << r.err;
     for (const char* file : {"L.mtx", "M.mtx", "d0.mtx", "d1.mtx", "star0.mtx", "star1.mtx", "star2.mtx", "report.json"})
         EXPECT_TRUE(fs::exists(out / file)) << file;
@@ -716,8 +691,7 @@ TEST_F(Files, CliWritesOperatorsThatMatchTheLibrary) {
 TEST_F(Files, CliReportsNegativeDualCells) {
     write_mesh(dir_ / "fan.obj", test::make_negative_dual_fan());
     const CliRun r = run_cli("operators " + (dir_ / "fan.obj").string() + " --out " + (dir_ / "fan").string() +
-                              " --mass circumcentric",
-                          dir_ / "err.txt");
+                              " --mass circumcentric");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.out.find("\"negative_star0\": 0"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("\"min_star0\": -"), std::string::npos) << r.out;
@@ -726,12 +700,11 @@ TEST_F(Files, CliReportsNegativeDualCells) {
 TEST_F(Files, CliRejectsBadArguments) {
     write_mesh(dir_ / "sphere.off", make_icosphere(0));
     const std::string mesh = (dir_ / "sphere.off").string();
-    EXPECT_EQ(run_cli("operators " + mesh, dir_ / "err.txt").code, 2);
-    const CliRun bad_mass = run_cli("operators " + mesh + " --out " + (dir_ / "o").string() + " --mass lumpy", dir_ / "err.txt");
+    EXPECT_EQ(run_cli("operators " + mesh).code, 2);
+    const CliRun bad_mass = run_cli("operators " + mesh + " --out " + (dir_ / "o").string() + " --mass lumpy");
     EXPECT_EQ(bad_mass.code, 2);
     EXPECT_NE(bad_mass.err.find("--mass"), std::string::npos) << bad_mass.err;
-    const CliRun missing = run_cli("operators " + (dir_ / "none.obj").string() + " --out " + (dir_ / "o").string(),
-                                dir_ / "err.txt");
+    const CliRun missing = run_cli("operators " + (dir_ / "none.obj").string() + " --out " + (dir_ / "o").string());
     EXPECT_EQ(missing.code, 3);
     EXPECT_FALSE(fs::exists(dir_ / "o"));
 }
