@@ -39,5 +39,6 @@ int run_check(Args& args);
 int run_repair(Args& args);
 int run_convert(Args& args);
 int run_operators(Args& args);
+int run_intrinsic(Args& args);
 
 }  // namespace sdmesh::cli

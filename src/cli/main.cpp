@@ -28,6 +28,9 @@ Commands:
                                   faces, orient consistently, drop unreferenced vertices
   operators MESH --out DIR [--mass barycentric|circumcentric|mixed|galerkin]
                                   L, M, d0, d1, star0/1/2 as Matrix Market files and report.json in DIR
+  intrinsic MESH --out DIR [--mass ...] [--tolerance RAD] [--max-flips N]
+                                  the same files for the intrinsic Delaunay triangulation (edge
+                                  flips, vertices kept); report.json adds flips, proper, status
 
 Mesh files: .obj .off .ply .stl, each optionally .gz.
 Exit codes: 0 ok, 1 not self-Delaunay / not certified, 2 usage, 3 I/O error, 4 unsupported format,
@@ -46,6 +49,7 @@ constexpr Command kCommands[] = {
     {"repair", run_repair},
     {"convert", run_convert},
     {"operators", run_operators},
+    {"intrinsic", run_intrinsic},
 };
 
 int fail(int code, const std::string& message) {

@@ -1,0 +1,32 @@
+#pragma once
+// What `sdmesh operators` and `sdmesh intrinsic` share: the --mass option, the Matrix Market
+// files, the operator summary of report.json and its writing (implemented in operators.cpp).
+
+#include <filesystem>
+
+#include "cli/args.hpp"
+#include "cli/json.hpp"
+#include "sdmesh/operators.hpp"
+#include "sdmesh/triangulation.hpp"
+
+namespace sdmesh::cli {
+
+struct MassChoice {
+    const char* name;  ///< as given to --mass and written to report.json
+    MassType type;
+};
+
+/// --mass barycentric|circumcentric|mixed|galerkin, default barycentric.
+/// \throws UsageError another value.
+MassChoice parse_mass(Args& args);
+
+/// Writes L, M (of the chosen type), d0, d1, star0, star1, star2 of t as Matrix Market files into
+/// dir (created with its parents), and adds the summary to report: vertices, edges, faces, mass,
+/// nnz_L, nnz_M, min_star0, min_star1, negative_star0, negative_star1.
+void write_operators(const Triangulation& t, const MassChoice& mass, const std::filesystem::path& dir,
+                     JsonObject& report);
+
+/// Writes report.json into dir (atomically, see write_text_file) and prints it.
+void write_report(const std::filesystem::path& dir, const JsonObject& report);
+
+}  // namespace sdmesh::cli

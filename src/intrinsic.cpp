@@ -1,0 +1,156 @@
+#include "sdmesh/intrinsic.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "halfedge.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/geometry.hpp"
+
+namespace sdmesh {
+namespace {
+
+// Factors that keep a clamped length a few ulps inside the triangle inequality, so that Kahan's
+// area of the new faces stays positive (Triangulation::check() requires it).
+constexpr double kBelow = 1 - 32 * std::numeric_limits<double>::epsilon();
+constexpr double kAbove = 1 + 32 * std::numeric_limits<double>::epsilon();
+
+// Length of the new diagonal r-s of the hinge p, q, r, s (notation of ALGORITHMS.md §1:
+// l = |pq|, a = |rp|, b = |rq|, c = |sp|, d = |sq|). The hinge is laid out in the plane with p at
+// the origin, q at (l, 0), r = (x_r, y_r) above and s = (x_s, -y_s) below the axis, where
+// x_r = (l² + a² - b²)/(2l) and y_r = 2·area(l, a, b)/l (likewise s with c, d). Then
+//   |rs|² = (x_r - x_s)² + (y_r + y_s)²,  x_r - x_s = ((a - b)(a + b) - (c - d)(c + d)) / (2l):
+// l² cancels exactly in the difference, each product is accurate, and the y-term adds two
+// positive Kahan areas, so nothing cancels catastrophically beyond what the data dictate.
+// A non-LD hinge is a strictly convex quadrilateral, so the exact |rs| lies strictly inside the
+// triangle inequalities of the new faces (r, p, s) and (s, q, r); when its angle at p or q is
+// within ~1e-8 of π, rounding can push the computed value onto or past a bound, and the clamp
+// below moves it back by a few ulps (a rounding-level change of the metric).
+double flipped_length(double l, double a, double b, double c, double d) {
+    const double dx = ((a - b) * (a + b) - (c - d) * (c + d)) / (2 * l);
+    const double dy = 2 * (triangle_area(l, a, b) + triangle_area(l, c, d)) / l;
+    const double lower = std::max(std::abs(a - c), std::abs(b - d)) * kAbove;
+    const double upper = std::min(a + c, b + d) * kBelow;
+    return std::min(std::max(std::sqrt(dx * dx + dy * dy), lower), upper);
+}
+
+// The two faces of every interior edge must run along it in opposite directions, i.e. its
+// face_edge_sign entries sum to 0 (a self-edge cannot tell, and needs no check): flips rely on it.
+// Summed in one sequential pass over the faces, since random access to the signs is slow.
+void require_oriented(const Triangulation& t) {
+    std::vector<signed char> sign_sum(t.num_edges(), 0);
+    for (int k = 0; k < 3; ++k)
+        for (int f = 0; f < t.num_faces(); ++f) {
+            signed char& sum = sign_sum[t.face_edge(f, k)];
+            sum = static_cast<signed char>(sum + t.face_edge_sign(f, k));
+        }
+    for (int e = 0; e < t.num_edges(); ++e) {
+        const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
+        if (h1 >= 0 && t.E(e, 0) != t.E(e, 1) && sign_sum[e] != 0)
+            throw InvalidMeshError("intrinsic_delaunay: faces " + std::to_string(h0 / 3) + " and " +
+                                   std::to_string(h1 / 3) + " run along edge " + std::to_string(e) + " (" +
+                                   std::to_string(t.E(e, 0)) + ", " + std::to_string(t.E(e, 1)) +
+                                   ") in the same direction; the triangulation is not consistently oriented");
+    }
+}
+
+// Self-edges and repeated edges (non-self edges joining the same two vertices as an edge of
+// smaller id) in O(|V| + |E|): edges bucketed by their lower end, in id order, then each bucket
+// scanned with a per-vertex stamp of the last bucket that reached it.
+void count_improper_edges(const Triangulation& t, IntrinsicReport& report) {
+    const int nv = t.num_vertices, ne = t.num_edges();
+    std::vector<int> begin(static_cast<size_t>(nv) + 1, 0);
+    for (int e = 0; e < ne; ++e) ++begin[t.E(e, 0) + 1];
+    for (int v = 0; v < nv; ++v) begin[v + 1] += begin[v];
+    std::vector<int> bucket(ne), cursor(begin.begin(), begin.end() - 1);
+    for (int e = 0; e < ne; ++e) bucket[cursor[t.E(e, 0)]++] = e;
+    std::vector<int> stamp(nv, -1);
+    for (int v = 0; v < nv; ++v)
+        for (int i = begin[v]; i < begin[v + 1]; ++i) {
+            const int w = t.E(bucket[i], 1);
+            if (w == v) ++report.self_edges;
+            else if (stamp[w] == v) ++report.repeated_edges;
+            else stamp[w] = v;
+        }
+    report.proper = report.self_edges == 0 && report.repeated_edges == 0;
+}
+
+}  // namespace
+
+IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    if (!(options.tolerance >= 0) || !std::isfinite(options.tolerance))
+        throw InvalidArgumentError("intrinsic_delaunay: tolerance must be finite and >= 0, got " +
+                                   std::to_string(options.tolerance));
+    t.check();
+    require_oriented(t);
+
+    HalfedgeMesh mesh(t);
+    Eigen::VectorXd length = t.length;
+    double* const len = length.data();
+    const int ne = t.num_edges();
+    const long long budget = options.max_flips >= 0 ? options.max_flips : 100LL * ne + 1'000'000;
+    const double tolerance = options.tolerance;
+
+    const auto loop_start = std::chrono::steady_clock::now();
+    // Lawson's loop on a stack of candidate edges; `queued` keeps an edge on it at most once.
+    // The initial candidates are the edges facing an obtuse corner: with both opposite angles
+    // <= π/2 an edge is LD, and it can only lose that when a flip changes its hinge, which
+    // pushes it. They are stacked so that they pop in id order; after a flip the four outer
+    // edges of its hinge are pushed and so tested next, while they are still in cache.
+    std::vector<char> queued(ne, 0);
+    for (int f = 0; f < t.num_faces(); ++f)
+        for (int k = 0; k < 3; ++k)
+            if (cosine_numerator(t.side(f, k), t.side(f, (k + 1) % 3), t.side(f, (k + 2) % 3)) < 0)
+                queued[t.face_edge(f, k)] = 1;
+    std::vector<int> stack;
+    for (int e = ne - 1; e >= 0; --e)
+        if (queued[e]) stack.push_back(e);
+    auto push = [&](int e) {
+        if (!queued[e]) queued[e] = 1, stack.push_back(e);
+    };
+    long long flips = 0;
+    bool exhausted = false;
+    while (!stack.empty()) {
+        const int e = stack.back();
+        stack.pop_back();
+        queued[e] = 0;
+        // h runs p -> q in face (r, p, q), its twin q -> p in (s, q, p). An edge whose two sides
+        // lie in one face is never flipped: its opposite angles are two corners of one triangle,
+        // so it is LD.
+        const int h = mesh.halfedge(e), tw = mesh.twin(h);
+        if (tw < 0 || HalfedgeMesh::face(h) == HalfedgeMesh::face(tw)) continue;
+        const int e_rp = mesh.edge(HalfedgeMesh::prev(h)), e_qr = mesh.edge(HalfedgeMesh::next(h));
+        const int e_ps = mesh.edge(HalfedgeMesh::next(tw)), e_sq = mesh.edge(HalfedgeMesh::prev(tw));
+        const double l = len[e], a = len[e_rp], b = len[e_qr], c = len[e_ps], d = len[e_sq];
+        // The same shortcut: two non-obtuse opposite angles make the edge LD, and skipping the
+        // margin's atan2 then gives its verdict (its sine term is >= 0).
+        if (cosine_numerator(l, a, b) >= 0 && cosine_numerator(l, c, d) >= 0) continue;
+        if (!(delaunay_margin(l, a, b, c, d) < -tolerance)) continue;
+        if (flips == budget) {
+            exhausted = true;
+            break;
+        }
+        len[e] = flipped_length(l, a, b, c, d);
+        mesh.flip(e);
+        ++flips;
+        push(e_rp), push(e_qr), push(e_ps), push(e_sq);
+    }
+    const auto loop_end = std::chrono::steady_clock::now();
+
+    IntrinsicResult result{mesh.to_triangulation(std::move(length)), {}};
+    IntrinsicReport& report = result.report;
+    report.flip_seconds = std::chrono::duration<double>(loop_end - loop_start).count();
+    report.flips = flips;
+    report.status = exhausted ? "flip_budget_exhausted" : "delaunay";
+    count_improper_edges(result.triangulation, report);
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace sdmesh
