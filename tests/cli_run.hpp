@@ -1,44 +1,40 @@
 #pragma once
-// A fixture for tests that run the `sdmesh` executable: a scratch folder per test process, the
-// exit code of a command line, and whole-file reads.
+// A GoogleTest fixture over cli_runner.hpp for tests that run the `sdmesh` executable: a scratch
+// folder per test, the exit code of a command line, its output and errors kept in the folder.
 
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "cli_runner.hpp"
 
 namespace sdmesh::test {
 
 class CliTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = std::filesystem::temp_directory_path() /
-               ("sdmesh_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-        std::filesystem::create_directories(dir_);
+        folder_ = std::make_unique<TemporaryFolder>(
+            "sdmesh_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        dir_ = folder_->path();
     }
-    void TearDown() override { std::filesystem::remove_all(dir_); }
+    void TearDown() override { folder_.reset(); }
 
-    /// Exit code of `sdmesh ARGUMENTS`; stdout and stderr go to out.txt and err.txt in the folder.
+    /// Exit code of `sdmesh ARGUMENTS`; stdout and stderr are kept as out.txt and err.txt in the folder.
     int run(const std::string& arguments) const {
-        const std::string command = std::string(SDMESH_CLI) + " " + arguments + " >" + (dir_ / "out.txt").string() +
-                                    " 2>" + (dir_ / "err.txt").string();
-        const int status = std::system(command.c_str());
-        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        const CliRun r = run_cli(arguments);
+        std::ofstream(dir_ / "out.txt", std::ios::binary) << r.out;
+        std::ofstream(dir_ / "err.txt", std::ios::binary) << r.err;
+        return r.code;
     }
-    [[nodiscard]] static std::string read(const std::filesystem::path& path) {
-        std::ifstream in(path, std::ios::binary);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        return ss.str();
-    }
+    [[nodiscard]] static std::string read(const std::filesystem::path& path) { return read_text(path); }
+
     std::filesystem::path dir_;
+
+private:
+    std::unique_ptr<TemporaryFolder> folder_;
 };
 
 }  // namespace sdmesh::test

@@ -40,5 +40,9 @@ int run_repair(Args& args);
 int run_convert(Args& args);
 int run_operators(Args& args);
 int run_intrinsic(Args& args);
+int run_eigs(Args& args);
+int run_geodesic(Args& args);
+int run_poisson(Args& args);
+int run_heat(Args& args);
 
 }  // namespace sdmesh::cli

@@ -31,6 +31,18 @@ Commands:
   intrinsic MESH --out DIR [--mass ...] [--tolerance RAD] [--max-flips N]
                                   the same files for the intrinsic Delaunay triangulation (edge
                                   flips, vertices kept); report.json adds flips, proper, status
+  eigs MESH -k K --out DIR [--mass ...] [--convert split|hybrid|flip | --intrinsic] [--sigma S]
+          [--tolerance T]         the K smallest eigenpairs of L φ = λ M φ: eigenvalues.csv,
+                                  eigenvectors.bin (int32 n, int32 k, k columns of n doubles,
+                                  little endian) and report.json in DIR
+  geodesic MESH --source V[,V...] --out FILE.ply [--mass ...] [--convert METHOD | --intrinsic]
+          [--time T]              heat-method distance to the nearest source, as the PLY vertex
+                                  field `distance`; the report (JSON) goes to stdout
+  poisson MESH --f FILE --out FILE.ply [--dirichlet FILE] [--mass ...] [--convert METHOD | --intrinsic]
+                                  −Δu = f (f: one value per line), u given on the vertices of
+                                  the "VERTEX VALUE" lines of --dirichlet; PLY vertex field `u`
+  heat MESH (--u0 FILE | --source V[,V...]) --time T --out FILE.ply [--steps N] [...]
+                                  backward Euler heat steps from u0; PLY vertex field `u`
 
 Mesh files: .obj .off .ply .stl, each optionally .gz.
 Exit codes: 0 ok, 1 not self-Delaunay / not certified, 2 usage, 3 I/O error, 4 unsupported format,
@@ -50,6 +62,10 @@ constexpr Command kCommands[] = {
     {"convert", run_convert},
     {"operators", run_operators},
     {"intrinsic", run_intrinsic},
+    {"eigs", run_eigs},
+    {"geodesic", run_geodesic},
+    {"poisson", run_poisson},
+    {"heat", run_heat},
 };
 
 int fail(int code, const std::string& message) {

@@ -1,0 +1,73 @@
+// Solvers on corpus meshes (issue: solvers): the k smallest eigenpairs of L φ = λ M φ (barycentric
+// mass) on c3d_nefertiti (k = 50), oded_koala (k = 100) and igea_midsub1 (k = 50), and heat-method
+// geodesics on igea_midsub1 (precomputation, then one query). Operators are built outside the
+// timed region. Compare with SciPy's eigsh on the same matrices: experiments/benchmarks/scipy_eigsh.py.
+//   bench_eigen [--benchmark_filter=...] --benchmark_counters_tabular=true
+
+#include <map>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "sdmesh/eigen.hpp"
+#include "sdmesh/io.hpp"
+#include "sdmesh/operators.hpp"
+#include "sdmesh/pde.hpp"
+
+namespace {
+
+// Corpus meshes by file name, read once per process.
+const sdmesh::Triangulation& triangulation(const std::string& file) {
+    static std::map<std::string, sdmesh::Triangulation> cache;
+    auto it = cache.find(file);
+    if (it == cache.end())
+        it = cache.emplace(file, sdmesh::Triangulation::from_mesh(
+                                     sdmesh::read_mesh(std::string(SDMESH_CORPUS_DIR) + "/" + file)))
+                 .first;
+    return it->second;
+}
+
+void BM_Eigenpairs(benchmark::State& state, const std::string& file, int k) {
+    const sdmesh::Triangulation& t = triangulation(file);
+    const Eigen::SparseMatrix<double> L = sdmesh::cotan_laplacian(t), M = sdmesh::mass_matrix(t);
+    sdmesh::EigenReport report;
+    for (auto _ : state) {
+        const sdmesh::EigenResult r = sdmesh::smallest_eigenpairs(L, M, {.k = k});
+        report = r.report;
+        benchmark::DoNotOptimize(r.values.data());
+    }
+    state.counters["vertices"] = t.num_vertices;
+    state.counters["k"] = k;
+    state.counters["converged"] = report.status == sdmesh::EigenStatus::converged;
+    state.counters["restarts"] = report.iterations;
+    state.counters["solves"] = report.solves;
+    state.counters["max_residual"] = report.max_residual;
+}
+
+BENCHMARK_CAPTURE(BM_Eigenpairs, nefertiti_k50, "c3d_nefertiti.obj", 50)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Eigenpairs, koala_k100, "oded_koala.obj", 100)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Eigenpairs, igea_k50, "igea_midsub1.obj.gz", 50)->Unit(benchmark::kSecond)->Iterations(1);
+
+void BM_GeodesicPrecompute(benchmark::State& state) {
+    const sdmesh::Triangulation& t = triangulation("igea_midsub1.obj.gz");
+    for (auto _ : state) benchmark::DoNotOptimize(sdmesh::HeatGeodesics(t).report().time);
+    state.counters["vertices"] = t.num_vertices;
+}
+BENCHMARK(BM_GeodesicPrecompute)->Unit(benchmark::kSecond)->Iterations(2);
+
+void BM_GeodesicQuery(benchmark::State& state) {
+    const sdmesh::Triangulation& t = triangulation("igea_midsub1.obj.gz");
+    const sdmesh::HeatGeodesics geodesics(t);
+    int source = 0;
+    for (auto _ : state) {
+        const Eigen::VectorXd d = geodesics.distance({source});
+        source = (source + 7919) % t.num_vertices;  // a different source each time
+        benchmark::DoNotOptimize(d.data());
+    }
+    state.counters["vertices"] = t.num_vertices;
+}
+BENCHMARK(BM_GeodesicQuery)->Unit(benchmark::kMillisecond)->Iterations(5);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,80 @@
+#pragma once
+// The k smallest eigenpairs of the generalized problem L φ = λ M φ (L symmetric positive
+// semidefinite, M symmetric positive definite, both n x n): shift-invert Lanczos on a sparse
+// Cholesky factor of L − σM with a negative shift σ, so L − σM is positive definite even though
+// L is singular. The constant functions are not removed: a mesh gets one zero eigenvalue per
+// connected component, and they come out like any other eigenvalue. Spectra and CHOLMOD stay
+// behind this header (target sdmesh::solvers).
+//
+//   const auto t = sdmesh::Triangulation::from_mesh(sdmesh::read_mesh("bunny.obj"));
+//   const sdmesh::EigenResult r = sdmesh::smallest_eigenpairs(
+//       sdmesh::cotan_laplacian(t), sdmesh::mass_matrix(t), {.k = 50});
+//   if (r.report.status != sdmesh::EigenStatus::converged) ...  // r.values holds what converged
+
+#include <limits>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+namespace sdmesh {
+
+struct EigenOptions {
+    /// Number of eigenpairs wanted, 1 <= k < n (n: the free vertices, see dirichlet_vertices).
+    int k = 10;
+    /// Shift σ < 0 of the shift-invert transform; NaN (default) picks
+    /// σ = −trace(L) / (n · trace(M)), i.e. minus the mean cotan weight sum over the mean vertex
+    /// area. It is invariant under refinement and scales like 1/area, as the low eigenvalues do,
+    /// and sits an order of magnitude below the first non-zero one on compact surfaces.
+    double sigma = std::numeric_limits<double>::quiet_NaN();
+    /// Relative tolerance of the Lanczos Ritz values (Spectra's tol).
+    double tolerance = 1e-10;
+    /// Maximum number of Lanczos restarts.
+    int max_iterations = 1000;
+    /// Lanczos basis size; 0 (default) picks max(2k + 1, 20), capped at n.
+    int basis_size = 0;
+    /// Vertices where φ = 0 (homogeneous Dirichlet condition): the problem is solved on the rows
+    /// and columns of the other vertices and the eigenvectors are 0 here. Empty: natural
+    /// (Neumann) boundary.
+    std::vector<int> dirichlet_vertices = {};
+};
+
+enum class EigenStatus {
+    converged,      ///< all k pairs met the tolerance
+    not_converged,  ///< max_iterations reached first; the result holds the pairs that converged
+};
+
+/// "converged" / "not_converged", as in report.json.
+std::string_view to_string(EigenStatus status);
+
+struct EigenReport {
+    EigenStatus status = EigenStatus::converged;
+    int iterations = 0;        ///< Lanczos restarts
+    int solves = 0;            ///< applications of (L − σM)⁻¹, the dominant cost
+    double sigma = 0;          ///< the shift used
+    double max_residual = 0;   ///< max over pairs of ‖Lφ − λMφ‖ / (max(|λ|, |σ|) · ‖Mφ‖)
+    double max_orthogonality_error = 0;  ///< max |ΦᵀMΦ − I| entry
+    double seconds = 0;        ///< wall time, factorization included
+};
+
+struct EigenResult {
+    /// Eigenvalues, ascending (k of them, fewer if not converged).
+    Eigen::VectorXd values;
+    /// n x k eigenvectors, column j for values[j], M-orthonormal: ΦᵀMΦ = I.
+    Eigen::MatrixXd vectors;
+    EigenReport report;
+};
+
+/// The k smallest eigenpairs of L φ = λ M φ; L and M store both triangles, as operators.hpp
+/// returns them.
+/// A final Rayleigh–Ritz step on the k Ritz vectors makes them M-orthonormal to rounding.
+/// \throws InvalidArgumentError L, M not square or of different sizes; k < 1 or k >= n; σ >= 0;
+///         a Dirichlet vertex out of range or repeated; tolerance <= 0; max_iterations < 1; a basis size
+///         other than 0 outside (k, n].
+/// \throws NumericalError L − σM is not positive definite (M not positive definite, L not
+///         positive semidefinite).
+EigenResult smallest_eigenpairs(const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M,
+                                const EigenOptions& options = {});
+
+}  // namespace sdmesh

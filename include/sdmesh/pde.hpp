@@ -1,0 +1,135 @@
+#pragma once
+// Poisson and heat solves with the cotan Laplacian, and geodesic distance by the heat method.
+// Each solver factors its matrix once (CHOLMOD, behind sdmesh::solvers) and then solves any
+// number of right-hand sides.
+//
+// Conventions: L is the positive semidefinite cotan Laplacian and M a mass matrix, both n x n
+// (operators.hpp, both triangles stored), so L u = M f is the weak form of −Δu = f.
+// Dirichlet vertices carry prescribed values; everywhere else the boundary condition is the
+// natural (Neumann) one. A connected component of the mesh (of L's pattern) without a Dirichlet
+// vertex determines u only up to a constant: there the right-hand side is made compatible by
+// removing its component-wise mean, and the solution is the one with zero M-mean on the component.
+//
+//   sdmesh::PoissonSolver poisson(L, M, boundary);          // factor once
+//   Eigen::VectorXd u = poisson.solve(M * f, boundary_values);
+//
+//   sdmesh::HeatGeodesics geodesics(t);                     // t: a Triangulation
+//   Eigen::VectorXd d = geodesics.distance({source});
+
+#include <chrono>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "sdmesh/cholesky.hpp"
+#include "sdmesh/operators.hpp"
+#include "sdmesh/triangulation.hpp"
+
+namespace sdmesh {
+
+/// Solves L u = b with u = g on the Dirichlet vertices (for −Δu = f pass b = M f).
+class PoissonSolver {
+public:
+    /// Factors L restricted to the free vertices (plus one pinned vertex per component without a
+    /// Dirichlet vertex).
+    /// \throws InvalidArgumentError L, M not square or of different sizes; a Dirichlet vertex out
+    ///         of range or repeated.
+    /// \throws NumericalError the restricted L is not positive definite (L not positive
+    ///         semidefinite; the cotan Laplacian always is).
+    PoissonSolver(const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M,
+                  const std::vector<int>& dirichlet_vertices = {});
+
+    /// u (n) with L u = b on the free vertices and u = dirichlet_values (in the order of the
+    /// constructor's vertices; empty means all 0) on the Dirichlet ones. On a component without
+    /// Dirichlet vertices b is first replaced by its compatible part b − (Σ_c b)·M1/(1ᵀM1), and u
+    /// has zero M-mean there.
+    /// \throws InvalidArgumentError b or dirichlet_values of the wrong size.
+    [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& b, const Eigen::VectorXd& dirichlet_values = {}) const;
+
+private:
+    Eigen::SparseMatrix<double> free_, fixed_, L_free_fixed_;  // selections and the coupling block
+    std::vector<int> component_;                               // per vertex
+    std::vector<char> neumann_component_;                      // no Dirichlet vertex in it
+    Eigen::VectorXd lumped_mass_;                              // M·1
+    Eigen::VectorXd component_area_;                           // 1ᵀM1 per component
+    int dirichlet_count_ = 0;
+    CholeskySolver solver_;
+};
+
+/// Backward Euler for the heat equation u' = Δu: (M + tL) u_{k+1} = M u_k, with u = 0 on the
+/// Dirichlet vertices (Neumann elsewhere).
+class HeatSolver {
+public:
+    /// \throws InvalidArgumentError sizes as PoissonSolver; time step t <= 0 or not finite.
+    /// \throws NumericalError M + tL is not positive definite.
+    HeatSolver(const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M, double t,
+               const std::vector<int>& dirichlet_vertices = {});
+
+    /// Refactors for another time step (same pattern, no new analysis).
+    void set_time_step(double t);
+
+    /// u after `steps` steps from u0 (values of u0 on Dirichlet vertices are ignored).
+    /// \throws InvalidArgumentError u0 of the wrong size, steps < 0.
+    [[nodiscard]] Eigen::VectorXd step(const Eigen::VectorXd& u0, int steps = 1) const;
+
+private:
+    Eigen::SparseMatrix<double> free_, L_, M_;  // L and M restricted to the free vertices
+    CholeskySolver solver_;
+};
+
+struct GeodesicOptions {
+    /// Heat time t; NaN (default) means h², h the mean edge length (Crane et al. 2013, m = 1).
+    double time = std::numeric_limits<double>::quiet_NaN();
+    /// Mass matrix of the heat step.
+    MassType mass = MassType::barycentric;
+    /// On a mesh with boundary, diffuse heat as the mean of the Neumann and the (zero) Dirichlet
+    /// solutions, as Crane et al. recommend; false: Neumann only.
+    bool average_boundary_conditions = true;
+};
+
+struct GeodesicReport {
+    double time = 0;               ///< the heat time t used
+    int boundary_vertices = 0;     ///< Dirichlet vertices of the second heat solve (0 without one)
+    double precompute_seconds = 0; ///< operators and factorizations
+};
+
+/// Geodesic distance by the heat method (Crane, Weischedel, Wardetzky 2013) on a Triangulation,
+/// hence on extrinsic meshes, converted self-Delaunay meshes and intrinsic triangulations alike:
+/// heat u from the sources for time t, X = −∇u/|∇u| per face, then L φ = −div X (Neumann), and φ
+/// shifted so that its mean over the sources of each component is 0. Factorizations are kept,
+/// so each further query costs three back-substitutions.
+class HeatGeodesics {
+public:
+    /// \throws InvalidMeshError as the operators; InvalidArgumentError options.time <= 0;
+    ///         NumericalError a factorization fails (a mass matrix that is not positive
+    ///         definite, e.g. circumcentric on a mesh that is not self-Delaunay).
+    explicit HeatGeodesics(const Triangulation& t, const GeodesicOptions& options = {});
+
+    /// Distance (n) from the nearest of the sources; +inf on components without a source.
+    /// \throws InvalidArgumentError no source, or a source out of range.
+    [[nodiscard]] Eigen::VectorXd distance(const std::vector<int>& sources) const;
+
+    [[nodiscard]] const GeodesicReport& report() const { return report_; }
+
+private:
+    HeatGeodesics(const Triangulation& t, const GeodesicOptions& options, std::chrono::steady_clock::time_point start);
+
+    int num_vertices_ = 0;
+    Eigen::SparseMatrix<double> L_, M_, gradient_, divergence_;
+    double time_ = 0;
+    HeatSolver neumann_heat_;
+    std::optional<HeatSolver> dirichlet_heat_;  // with boundary and averaging only
+    PoissonSolver poisson_;
+    std::vector<int> component_;
+    int component_count_ = 0;
+    GeodesicReport report_;
+};
+
+/// One-call form: HeatGeodesics(t, options).distance(sources).
+Eigen::VectorXd heat_geodesic_distance(const Triangulation& t, const std::vector<int>& sources,
+                                       const GeodesicOptions& options = {});
+
+}  // namespace sdmesh

@@ -1,0 +1,138 @@
+#include "sdmesh/eigen.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+#include <Spectra/MatOp/SparseSymMatProd.h>
+#include <Spectra/SymGEigsShiftSolver.h>
+
+#include "sdmesh/cholesky.hpp"
+#include "sdmesh/error.hpp"
+
+#include "free_vertices.hpp"
+
+namespace sdmesh {
+namespace {
+
+using Sparse = Eigen::SparseMatrix<double>;
+
+// y = (L − σM)⁻¹ x for Spectra's shift-invert mode, on a CHOLMOD factor built when Spectra sets
+// the shift. Counts the solves for the report.
+class ShiftInvertOp {
+public:
+    using Scalar = double;
+
+    ShiftInvertOp(const Sparse& L, const Sparse& M, int& solves) : L_(L), M_(M), solves_(solves) {}
+
+    [[nodiscard]] Eigen::Index rows() const { return L_.rows(); }
+    [[nodiscard]] Eigen::Index cols() const { return L_.cols(); }
+
+    void set_shift(double sigma) {
+        const Sparse shifted = L_ - sigma * M_;
+        solver_ = CholeskySolver(shifted);
+    }
+
+    void perform_op(const double* x_in, double* y_out) const {
+        const Eigen::Index n = rows();
+        Eigen::Map<Eigen::VectorXd>(y_out, n) = solver_.solve(Eigen::Map<const Eigen::VectorXd>(x_in, n));
+        ++solves_;
+    }
+
+private:
+    const Sparse& L_;
+    const Sparse& M_;
+    int& solves_;
+    CholeskySolver solver_;
+};
+
+void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& options) {
+    detail::check_square_pair(L, M, "eigenpairs");
+    if (!(options.tolerance > 0))
+        throw InvalidArgumentError("eigenpairs: tolerance must be > 0, got " + std::to_string(options.tolerance));
+    if (options.max_iterations < 1)
+        throw InvalidArgumentError("eigenpairs: max_iterations must be >= 1, got " +
+                                   std::to_string(options.max_iterations));
+    if (!std::isnan(options.sigma) && !(options.sigma < 0))
+        throw InvalidArgumentError("eigenpairs: the shift sigma must be negative (L is singular), got " +
+                                   std::to_string(options.sigma));
+}
+
+}  // namespace
+
+std::string_view to_string(EigenStatus status) {
+    return status == EigenStatus::converged ? "converged" : "not_converged";
+}
+
+EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, const EigenOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    check_arguments(L_full, M_full, options);
+    const int n_all = static_cast<int>(L_full.rows());
+    const bool restricted = !options.dirichlet_vertices.empty();
+    const Sparse P =
+        restricted ? detail::VertexSplit::make(n_all, options.dirichlet_vertices, "eigenpairs").free : Sparse();
+    // Full symmetric copies: the products below use both triangles.
+    const Sparse L = restricted ? detail::restrict_to(L_full, P, P) : Sparse(L_full);
+    const Sparse M = restricted ? detail::restrict_to(M_full, P, P) : Sparse(M_full);
+    const int n = static_cast<int>(L.rows());
+    const int k = options.k;
+    if (k < 1 || k >= n)
+        throw InvalidArgumentError("eigenpairs: k must satisfy 1 <= k < n = " + std::to_string(n) + ", got " +
+                                   std::to_string(k));
+    const int basis = options.basis_size == 0 ? std::min(n, std::max(2 * k + 1, 20)) : options.basis_size;
+    if (basis <= k || basis > n)
+        throw InvalidArgumentError("eigenpairs: basis_size must be in (k, n] = (" + std::to_string(k) + ", " +
+                                   std::to_string(n) + "], got " + std::to_string(basis));
+
+    EigenReport report;
+    report.sigma = std::isnan(options.sigma) ? -L.diagonal().sum() / (n * M.diagonal().sum()) : options.sigma;
+    if (!(report.sigma < 0))
+        throw InvalidArgumentError("eigenpairs: the automatic shift is not negative (trace(L) = " +
+                                   std::to_string(L.diagonal().sum()) + ", trace(M) = " +
+                                   std::to_string(M.diagonal().sum()) + "); pass sigma");
+
+    ShiftInvertOp op(L, M, report.solves);
+    Spectra::SparseSymMatProd<double> mass_op(M);
+    Spectra::SymGEigsShiftSolver<ShiftInvertOp, Spectra::SparseSymMatProd<double>, Spectra::GEigsMode::ShiftInvert>
+        lanczos(op, mass_op, k, basis, report.sigma);
+    lanczos.init();
+    lanczos.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance,
+                    Spectra::SortRule::SmallestAlge);
+    report.iterations = static_cast<int>(lanczos.num_iterations());
+    report.status =
+        lanczos.info() == Spectra::CompInfo::Successful ? EigenStatus::converged : EigenStatus::not_converged;
+
+    // Rayleigh–Ritz on the span of the Ritz vectors (a k x k dense generalized problem): Lanczos
+    // vectors drift from M-orthogonality within clusters of equal eigenvalues, this restores it
+    // to rounding and gives each pair its Rayleigh quotient.
+    const Eigen::MatrixXd Y = lanczos.eigenvectors();
+    const Eigen::MatrixXd LY = L * Y, MY = M * Y;
+    Eigen::MatrixXd A = Y.transpose() * LY, B = Y.transpose() * MY;
+    A = 0.5 * (A + A.transpose()).eval();
+    B = 0.5 * (B + B.transpose()).eval();
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> small(A, B);
+    if (small.info() != Eigen::Success)
+        throw NumericalError("eigenpairs: the Rayleigh-Ritz step failed (M not positive definite?)");
+
+    EigenResult result;
+    result.values = small.eigenvalues();
+    const Eigen::MatrixXd Z = small.eigenvectors();
+    const Eigen::MatrixXd phi = Y * Z, L_phi = LY * Z, M_phi = MY * Z;
+    for (Eigen::Index j = 0; j < phi.cols(); ++j) {
+        const double lambda = result.values[j];
+        const double scale = std::max(std::abs(lambda), std::abs(report.sigma)) * M_phi.col(j).norm();
+        report.max_residual = std::max(report.max_residual, (L_phi.col(j) - lambda * M_phi.col(j)).norm() / scale);
+    }
+    report.max_orthogonality_error =
+        phi.cols() > 0
+            ? (phi.transpose() * M_phi - Eigen::MatrixXd::Identity(phi.cols(), phi.cols())).cwiseAbs().maxCoeff()
+            : 0.0;
+    result.vectors = restricted ? Eigen::MatrixXd(P.transpose() * phi) : phi;
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.report = report;
+    return result;
+}
+
+}  // namespace sdmesh

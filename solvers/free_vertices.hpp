@@ -1,0 +1,34 @@
+#pragma once
+// Private to sdmesh::solvers: checking an (L, M) pair, splitting the vertices into fixed (Dirichlet) and free ones, so that
+// solves run on the free rows and columns, and the connected components seen by a Laplacian.
+
+#include <string_view>
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+namespace sdmesh::detail {
+
+using Sparse = Eigen::SparseMatrix<double>;
+
+struct VertexSplit {
+    Sparse free;   ///< |free| x n selection matrix, free vertices ascending
+    Sparse fixed;  ///< |fixed| x n selection matrix, fixed vertices in the order given
+
+    /// \throws InvalidArgumentError (message starting with `who`) a fixed vertex out of [0, n) or
+    ///         given twice.
+    static VertexSplit make(int n, const std::vector<int>& fixed, std::string_view who);
+};
+
+/// \throws InvalidArgumentError (message starting with `who`) L or M is not square, or their
+///         sizes differ.
+void check_square_pair(const Sparse& L, const Sparse& M, std::string_view who);
+
+/// P A Qᵀ: the rows of A selected by P and the columns selected by Q.
+inline Sparse restrict_to(const Sparse& A, const Sparse& P, const Sparse& Q) { return Sparse(P * A * Q.transpose()); }
+
+/// Component id (0, 1, ...) of each vertex, two vertices being joined when L stores an entry
+/// between them; ids are numbered in the order of their smallest vertex.
+std::vector<int> connected_components(const Sparse& L, int& count);
+
+}  // namespace sdmesh::detail

@@ -1,0 +1,206 @@
+#include "sdmesh/pde.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "sdmesh/error.hpp"
+
+#include "free_vertices.hpp"
+
+namespace sdmesh {
+namespace {
+
+using Sparse = Eigen::SparseMatrix<double>;
+
+void check_vector(const Eigen::VectorXd& x, Eigen::Index size, const char* who, const char* what) {
+    if (x.size() != size)
+        throw InvalidArgumentError(std::string(who) + ": " + what + " has " + std::to_string(x.size()) +
+                                   " entries, expected " + std::to_string(size));
+}
+
+void check_time_step(double t, const char* who) {
+    if (!(t > 0) || !std::isfinite(t))
+        throw InvalidArgumentError(std::string(who) + ": the time step must be positive and finite, got " +
+                                   std::to_string(t));
+}
+
+}  // namespace
+
+// ---- Poisson ---------------------------------------------------------------------------------------
+
+PoissonSolver::PoissonSolver(const Sparse& L, const Sparse& M, const std::vector<int>& dirichlet_vertices) {
+    detail::check_square_pair(L, M, "Poisson");
+    const int n = static_cast<int>(L.rows());
+    int count = 0;
+    component_ = detail::connected_components(L, count);
+    neumann_component_.assign(static_cast<size_t>(count), 1);
+    for (int v : dirichlet_vertices)  // out-of-range vertices are reported by VertexSplit::make
+        if (v >= 0 && v < n) neumann_component_[static_cast<size_t>(component_[static_cast<size_t>(v)])] = 0;
+
+    // Pin the first vertex of each component without Dirichlet data to 0, which makes the
+    // restricted L definite; the mean is fixed after the solve.
+    std::vector<int> constrained = dirichlet_vertices;
+    std::vector<char> pinned(static_cast<size_t>(count), 0);
+    for (int v = 0; v < n; ++v) {
+        const auto c = static_cast<size_t>(component_[static_cast<size_t>(v)]);
+        if (neumann_component_[c] && !pinned[c]) {
+            pinned[c] = 1;
+            constrained.push_back(v);
+        }
+    }
+    const detail::VertexSplit split = detail::VertexSplit::make(n, constrained, "Poisson");
+    free_ = split.free;
+    fixed_ = split.fixed;
+    dirichlet_count_ = static_cast<int>(dirichlet_vertices.size());
+    L_free_fixed_ = detail::restrict_to(L, free_, fixed_);
+
+    lumped_mass_ = M * Eigen::VectorXd::Ones(n);
+    component_area_ = Eigen::VectorXd::Zero(count);
+    for (int v = 0; v < n; ++v) component_area_[component_[static_cast<size_t>(v)]] += lumped_mass_[v];
+    solver_ = CholeskySolver(detail::restrict_to(L, free_, free_));
+}
+
+Eigen::VectorXd PoissonSolver::solve(const Eigen::VectorXd& b, const Eigen::VectorXd& dirichlet_values) const {
+    const Eigen::Index n = free_.cols();
+    check_vector(b, n, "Poisson", "the right-hand side");
+    if (dirichlet_values.size() != 0) check_vector(dirichlet_values, dirichlet_count_, "Poisson", "dirichlet_values");
+    const auto count = static_cast<Eigen::Index>(neumann_component_.size());
+    auto neumann = [&](Eigen::Index v) {
+        const int c = component_[static_cast<size_t>(v)];
+        return neumann_component_[static_cast<size_t>(c)] && component_area_[c] > 0;
+    };
+
+    Eigen::VectorXd rhs = b, total = Eigen::VectorXd::Zero(count);
+    for (Eigen::Index v = 0; v < n; ++v) total[component_[static_cast<size_t>(v)]] += b[v];
+    for (Eigen::Index v = 0; v < n; ++v) {
+        const int c = component_[static_cast<size_t>(v)];
+        if (neumann(v)) rhs[v] -= total[c] * lumped_mass_[v] / component_area_[c];
+    }
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(fixed_.rows());  // pinned vertices stay 0
+    if (dirichlet_values.size() != 0) g.head(dirichlet_count_) = dirichlet_values;
+    const Eigen::VectorXd u_free = solver_.solve(free_ * rhs - L_free_fixed_ * g);
+    Eigen::VectorXd u = free_.transpose() * u_free + fixed_.transpose() * g;
+
+    Eigen::VectorXd mean = Eigen::VectorXd::Zero(count);
+    for (Eigen::Index v = 0; v < n; ++v) mean[component_[static_cast<size_t>(v)]] += lumped_mass_[v] * u[v];
+    for (Eigen::Index v = 0; v < n; ++v) {
+        const int c = component_[static_cast<size_t>(v)];
+        if (neumann(v)) u[v] -= mean[c] / component_area_[c];
+    }
+    return u;
+}
+
+// ---- heat --------------------------------------------------------------------------------------------
+
+HeatSolver::HeatSolver(const Sparse& L, const Sparse& M, double t, const std::vector<int>& dirichlet_vertices) {
+    detail::check_square_pair(L, M, "heat");
+    check_time_step(t, "heat");
+    free_ = detail::VertexSplit::make(static_cast<int>(L.rows()), dirichlet_vertices, "heat").free;
+    L_ = detail::restrict_to(L, free_, free_);
+    M_ = detail::restrict_to(M, free_, free_);
+    solver_ = CholeskySolver(Sparse(M_ + t * L_));
+}
+
+void HeatSolver::set_time_step(double t) {
+    check_time_step(t, "heat");
+    solver_.factorize(Sparse(M_ + t * L_));
+}
+
+Eigen::VectorXd HeatSolver::step(const Eigen::VectorXd& u0, int steps) const {
+    check_vector(u0, free_.cols(), "heat", "u0");
+    if (steps < 0) throw InvalidArgumentError("heat: steps must be >= 0, got " + std::to_string(steps));
+    Eigen::VectorXd u = free_ * u0;
+    for (int s = 0; s < steps; ++s) u = solver_.solve(M_ * u);
+    return free_.transpose() * u;
+}
+
+// ---- heat-method geodesics ---------------------------------------------------------------------------
+
+namespace {
+
+double heat_time(const Triangulation& t, const GeodesicOptions& options) {
+    if (!std::isnan(options.time)) {
+        check_time_step(options.time, "geodesics");
+        return options.time;
+    }
+    if (t.num_edges() == 0) throw InvalidArgumentError("geodesics: the triangulation has no edges");
+    const double h = t.length.mean();
+    return h * h;
+}
+
+std::vector<int> boundary_vertices(const Triangulation& t) {
+    std::vector<int> vertices;
+    for (int e = 0; e < t.num_edges(); ++e)
+        if (t.is_boundary(e)) vertices.insert(vertices.end(), {t.E(e, 0), t.E(e, 1)});
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    return vertices;
+}
+
+}  // namespace
+
+HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& options)
+    : HeatGeodesics(t, options, std::chrono::steady_clock::now()) {}
+
+HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& options,
+                             std::chrono::steady_clock::time_point start)
+    : num_vertices_(t.num_vertices),
+      L_(cotan_laplacian(t)),
+      M_(mass_matrix(t, options.mass)),
+      gradient_(gradient(t)),
+      divergence_(divergence(t)),
+      time_(heat_time(t, options)),
+      neumann_heat_(L_, M_, time_),
+      poisson_(L_, M_) {
+    const std::vector<int> boundary = boundary_vertices(t);
+    if (options.average_boundary_conditions && !boundary.empty()) {
+        dirichlet_heat_.emplace(L_, M_, time_, boundary);
+        report_.boundary_vertices = static_cast<int>(boundary.size());
+    }
+    component_ = detail::connected_components(L_, component_count_);
+    report_.time = time_;
+    report_.precompute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Eigen::VectorXd HeatGeodesics::distance(const std::vector<int>& sources) const {
+    if (sources.empty()) throw InvalidArgumentError("geodesics: no source vertex");
+    Eigen::VectorXd u0 = Eigen::VectorXd::Zero(num_vertices_);
+    for (int s : sources) {
+        if (s < 0 || s >= num_vertices_)
+            throw InvalidArgumentError("geodesics: source " + std::to_string(s) + " is out of range [0, " +
+                                       std::to_string(num_vertices_) + ")");
+        u0[s] = 1;
+    }
+    Eigen::VectorXd u = neumann_heat_.step(u0);
+    if (dirichlet_heat_) u = 0.5 * (u + dirichlet_heat_->step(u0));
+
+    // X = −∇u/|∇u| per face; faces where u is flat (to the last bit) get no direction.
+    Eigen::VectorXd X = gradient_ * u;
+    for (Eigen::Index f = 0; f < X.size() / 2; ++f) {
+        auto g = X.segment<2>(2 * f);
+        const double norm = g.norm();
+        g = norm > 0 ? Eigen::Vector2d(-g / norm) : Eigen::Vector2d::Zero();
+    }
+    // ∇φ = X in the weak sense: div ∇φ = −Lφ = div X.
+    Eigen::VectorXd phi = poisson_.solve(-(divergence_ * X));
+
+    // Shift each component so that its sources average 0; +inf where no source is.
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(component_count_), count = Eigen::VectorXd::Zero(component_count_);
+    for (int s : sources) {
+        sum[component_[static_cast<size_t>(s)]] += phi[s];
+        count[component_[static_cast<size_t>(s)]] += 1;
+    }
+    for (int v = 0; v < num_vertices_; ++v) {
+        const int c = component_[static_cast<size_t>(v)];
+        phi[v] = count[c] > 0 ? phi[v] - sum[c] / count[c] : std::numeric_limits<double>::infinity();
+    }
+    return phi;
+}
+
+Eigen::VectorXd heat_geodesic_distance(const Triangulation& t, const std::vector<int>& sources,
+                                       const GeodesicOptions& options) {
+    return HeatGeodesics(t, options).distance(sources);
+}
+
+}  // namespace sdmesh

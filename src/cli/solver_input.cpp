@@ -1,0 +1,100 @@
+#include "cli/solver_input.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "cli/commands.hpp"
+#include "sdmesh/intrinsic.hpp"
+#include "sdmesh/io.hpp"
+
+namespace sdmesh::cli {
+
+SolverChoices parse_solver_choices(Args& args) {
+    SolverChoices choices{.mass = parse_mass(args)};
+    if (const auto method = args.option("--convert")) {
+        if (*method == "split") choices.convert = ConvertMethod::split;
+        else if (*method == "hybrid") choices.convert = ConvertMethod::hybrid;
+        else if (*method == "flip") choices.convert = ConvertMethod::flip;
+        else throw UsageError("--convert must be split|hybrid|flip, got '" + *method + "'");
+    }
+    choices.intrinsic = args.flag("--intrinsic");
+    if (choices.convert && choices.intrinsic) throw UsageError("--convert and --intrinsic exclude each other");
+    return choices;
+}
+
+SolverInput load_solver_input(const std::string& path, const SolverChoices& choices, JsonObject& report) {
+    SolverInput input;
+    about_file(path, [&] {
+        input.mesh = read_mesh(path);
+        report.add("file", path);
+        if (choices.convert) {
+            ConversionResult converted = convert(input.mesh, {.method = *choices.convert});
+            input.mesh = std::move(converted.mesh);
+            report.add("mesh", "converted")
+                .add("method", to_string(*choices.convert))
+                .add("conversion_status", to_string(converted.report.status));
+        }
+        input.triangulation = Triangulation::from_mesh(input.mesh);
+        if (choices.intrinsic) {
+            IntrinsicResult idt = intrinsic_delaunay(input.triangulation);
+            input.triangulation = std::move(idt.triangulation);
+            report.add("mesh", "intrinsic").add("flips", idt.report.flips).add("flip_status", idt.report.status);
+        }
+        if (!choices.convert && !choices.intrinsic) report.add("mesh", "extrinsic");
+    });
+    report.add("mass", choices.mass.name)
+        .add("vertices", input.triangulation.num_vertices)
+        .add("faces", input.triangulation.num_faces());
+    return input;
+}
+
+std::vector<int> parse_vertex_list(const std::string& option, const std::string& text) {
+    std::vector<int> vertices;
+    std::istringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) {
+        size_t end = 0;
+        try {
+            const long value = std::stol(item, &end);
+            if (end == item.size() && value >= 0 && value <= 0x7fffffff) {
+                vertices.push_back(static_cast<int>(value));
+                continue;
+            }
+        } catch (const std::exception&) {
+        }
+        throw UsageError(option + " expects vertex indices separated by commas, got '" + text + "'");
+    }
+    if (vertices.empty()) throw UsageError(option + " expects at least one vertex index");
+    return vertices;
+}
+
+Eigen::MatrixXd read_table(const std::string& path, int columns) {
+    std::ifstream in(path);
+    if (!in) throw IoError(path + ": cannot open");
+    std::vector<double> values;
+    int line_number = 0;
+    for (std::string line; std::getline(in, line);) {
+        ++line_number;
+        if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#')
+            continue;
+        std::istringstream fields(line);
+        int count = 0;
+        for (std::string field; fields >> field; ++count) {
+            size_t end = 0;
+            double value = 0;
+            try {
+                value = std::stod(field, &end);
+            } catch (const std::exception&) {
+            }
+            if (end != field.size() || end == 0)
+                throw ParseError(path + ":" + std::to_string(line_number) + ": '" + field + "' is not a number");
+            values.push_back(value);
+        }
+        if (count != columns)
+            throw ParseError(path + ":" + std::to_string(line_number) + ": " + std::to_string(count) +
+                             " values, expected " + std::to_string(columns));
+    }
+    return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        values.data(), static_cast<Eigen::Index>(values.size()) / columns, columns);
+}
+
+}  // namespace sdmesh::cli

@@ -1,0 +1,217 @@
+// Sparse generalized eigenpairs: the unit sphere's spectrum under refinement, residuals,
+// M-orthonormality, one zero eigenvalue per component, Dirichlet vertices, agreement with a dense
+// solve, argument errors, `sdmesh eigs`.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include "cli_run.hpp"
+#include "sdmesh/eigen.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/io.hpp"
+#include "sdmesh/operators.hpp"
+#include "sdmesh/shapes.hpp"
+
+namespace sdmesh {
+namespace {
+
+using Sparse = Eigen::SparseMatrix<double>;
+
+// Both the residual and the orthogonality of every result are checked against the acceptance bounds.
+void expect_accurate(const EigenResult& r, const std::string& what) {
+    EXPECT_EQ(r.report.status, EigenStatus::converged) << what;
+    EXPECT_LE(r.report.max_residual, 1e-8) << what;
+    EXPECT_LE(r.report.max_orthogonality_error, 1e-10) << what;
+    EXPECT_LT(r.report.sigma, 0.0) << what;
+    EXPECT_TRUE(std::is_sorted(r.values.begin(), r.values.end())) << what;
+}
+
+// The report's residual and orthogonality, recomputed from the returned pairs.
+void expect_report_is_honest(const EigenResult& r, const Sparse& L, const Sparse& M, const std::string& what) {
+    const Eigen::MatrixXd& phi = r.vectors;
+    const Eigen::MatrixXd gram = phi.transpose() * M * phi;
+    EXPECT_LE((gram - Eigen::MatrixXd::Identity(phi.cols(), phi.cols())).cwiseAbs().maxCoeff(), 1e-10) << what;
+    for (Eigen::Index j = 0; j < phi.cols(); ++j) {
+        const Eigen::VectorXd m_phi = M * phi.col(j);
+        const double scale = std::max(std::abs(r.values[j]), std::abs(r.report.sigma)) * m_phi.norm();
+        EXPECT_LE((L * phi.col(j) - r.values[j] * m_phi).norm() / scale, 1e-8) << what << ", pair " << j;
+    }
+}
+
+TEST(SphereSpectrum, EigenvaluesAreLTimesLPlusOneAndConvergeUnderRefinement) {
+    double previous_error = std::numeric_limits<double>::infinity();
+    for (int level = 2; level <= 4; ++level) {
+        const Triangulation t = Triangulation::from_mesh(make_icosphere(level));
+        const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::mixed_voronoi);
+        const EigenResult r = smallest_eigenpairs(L, M, {.k = 25});
+        const std::string what = "level " + std::to_string(level);
+        expect_accurate(r, what);
+        expect_report_is_honest(r, L, M, what);
+        ASSERT_EQ(r.values.size(), 25) << what;
+
+        const double h = t.length.maxCoeff();
+        // One zero eigenvalue: the constants, up to the solver's accuracy on the scale of σ.
+        EXPECT_LE(std::abs(r.values[0]), 1e-8 * std::abs(r.report.sigma)) << what;
+        double error = 0;  // largest relative error over l = 1..4
+        for (int l = 1; l <= 4; ++l) {
+            const double exact = l * (l + 1);
+            for (int i = l * l; i < (l + 1) * (l + 1); ++i) {
+                // O(λ²h²) discretisation error, with the bound test_operators uses.
+                EXPECT_NEAR(r.values[i], exact, 0.1 * exact * exact * h * h) << what << ", index " << i;
+                error = std::max(error, std::abs(r.values[i] - exact) / exact);
+            }
+            if (l < 4) {  // the 2l+1 copies form a cluster, well below the next one
+                EXPECT_LT(r.values[(l + 1) * (l + 1) - 1], r.values[(l + 1) * (l + 1)] - 1.0) << what;
+            }
+        }
+        EXPECT_LT(error, previous_error / 3) << what;  // halving h divides it by about 4
+        previous_error = error;
+    }
+}
+
+TEST(SphereSpectrum, AgreesWithADenseSolve) {
+    for (MassType mass : {MassType::barycentric, MassType::galerkin}) {
+        const Triangulation t = Triangulation::from_mesh(make_icosphere(2));
+        const Sparse L = cotan_laplacian(t), M = mass_matrix(t, mass);
+        const EigenResult r = smallest_eigenpairs(L, M, {.k = 16});
+        expect_accurate(r, "icosphere 2");
+        const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(
+            Eigen::MatrixXd(L), Eigen::MatrixXd(M), Eigen::EigenvaluesOnly);
+        // Both are accurate to rounding on the scale of the largest eigenvalue asked for.
+        const double tolerance = 1e-9 * dense.eigenvalues()[15];
+        for (int i = 0; i < 16; ++i) EXPECT_NEAR(r.values[i], dense.eigenvalues()[i], tolerance) << "index " << i;
+    }
+}
+
+// Two icospheres side by side in one matrix pair (block diagonal): two zero eigenvalues, each
+// eigenvector constant on one sphere; the spectrum is the union of the two.
+TEST(Components, OneZeroEigenvaluePerComponent) {
+    TriangleMesh a = make_icosphere(2), b = make_icosphere(2);
+    b.V.col(0).array() += 3.0;
+    TriangleMesh both;
+    both.V.resize(a.V.rows() + b.V.rows(), 3);
+    both.V << a.V, b.V;
+    both.F.resize(a.F.rows() + b.F.rows(), 3);
+    both.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
+    const Triangulation t = Triangulation::from_mesh(both);
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::barycentric);
+    const EigenResult r = smallest_eigenpairs(L, M, {.k = 8});
+    expect_accurate(r, "two spheres");
+    const double zero = 1e-8 * std::abs(r.report.sigma);
+    EXPECT_LE(std::abs(r.values[0]), zero);
+    EXPECT_LE(std::abs(r.values[1]), zero);
+    for (int i = 2; i < 8; ++i) EXPECT_NEAR(r.values[i], 2.0, 0.1 * 4 * t.length.maxCoeff() * t.length.maxCoeff());
+    // The null space is spanned by the two indicator functions: L annihilates both zero vectors.
+    for (int j = 0; j < 2; ++j) EXPECT_LE((L * r.vectors.col(j)).norm(), zero * (M * r.vectors.col(j)).norm());
+}
+
+// On the unit square with the boundary fixed, λ = π²(a² + b²): 2π², 5π² (twice), 8π².
+TEST(Dirichlet, SquareMatchesTheAnalyticSpectrumAndVanishesOnTheBoundary) {
+    const int n = 40;
+    const Triangulation t = Triangulation::from_mesh(make_grid(n, n));
+    std::vector<int> boundary;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            if (i == 0 || j == 0 || i == n || j == n) boundary.push_back(j * (n + 1) + i);
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::barycentric);
+    const EigenResult r = smallest_eigenpairs(L, M, {.k = 4, .dirichlet_vertices = boundary});
+    expect_accurate(r, "square");
+    const double pi2 = std::numbers::pi * std::numbers::pi, h = 1.0 / n;
+    const double expected[] = {2 * pi2, 5 * pi2, 5 * pi2, 8 * pi2};
+    for (int i = 0; i < 4; ++i)  // O(λ²h²), same constant as on the sphere
+        EXPECT_NEAR(r.values[i], expected[i], 0.1 * expected[i] * expected[i] * h * h) << "index " << i;
+    for (int v : boundary) EXPECT_EQ(r.vectors.row(v).cwiseAbs().maxCoeff(), 0.0) << "vertex " << v;
+}
+
+TEST(Arguments, AreChecked) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(0));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 0}), InvalidArgumentError);
+    EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 12}), InvalidArgumentError);  // k >= n
+    EXPECT_THROW(smallest_eigenpairs(L, Sparse(M.topLeftCorner(11, 11)), {.k = 3}), InvalidArgumentError);
+    EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 3, .sigma = 0.5}), InvalidArgumentError);
+    EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 3, .dirichlet_vertices = {12}}), InvalidArgumentError);
+    EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 3, .basis_size = 3}), InvalidArgumentError);
+    EXPECT_THROW(smallest_eigenpairs(L, Sparse(-M), {.k = 3}), InvalidArgumentError);  // σ from trace > 0
+    EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 3, .sigma = -1.0, .tolerance = 0}), InvalidArgumentError);
+}
+
+// ---- the CLI ---------------------------------------------------------------------------------------
+
+namespace fs = std::filesystem;
+using Cli = test::CliTest;
+
+TEST_F(Cli, WritesTheLibrarysEigenpairs) {
+    write_mesh(dir_ / "sphere.off", make_icosphere(2));
+    const fs::path out = dir_ / "eigs";
+    ASSERT_EQ(run("eigs " + (dir_ / "sphere.off").string() + " -k 9 --mass mixed --out " + out.string()), 0)
+        << read(dir_ / "err.txt");
+
+    const Triangulation t = Triangulation::from_mesh(read_mesh(dir_ / "sphere.off"));
+    const EigenResult r =
+        smallest_eigenpairs(cotan_laplacian(t), mass_matrix(t, MassType::mixed_voronoi), {.k = 9});
+    std::istringstream csv(read(out / "eigenvalues.csv"));
+    for (int i = 0; i < 9; ++i) {
+        double value = 0;
+        csv >> value;
+        EXPECT_EQ(value, r.values[i]) << "line " << i;  // 17 significant digits round-trip
+    }
+    double extra = 0;
+    EXPECT_FALSE(csv >> extra) << "more than k lines";
+
+    const std::string bin = read(out / "eigenvectors.bin");
+    std::int32_t sizes[2] = {};
+    ASSERT_EQ(bin.size(), sizeof sizes + sizeof(double) * static_cast<size_t>(t.num_vertices) * 9);
+    std::memcpy(sizes, bin.data(), sizeof sizes);
+    EXPECT_EQ(sizes[0], t.num_vertices);
+    EXPECT_EQ(sizes[1], 9);
+    Eigen::MatrixXd vectors(t.num_vertices, 9);
+    std::memcpy(vectors.data(), bin.data() + sizeof sizes, sizeof(double) * static_cast<size_t>(vectors.size()));
+    EXPECT_EQ(vectors, r.vectors);
+
+    const std::string report = read(out / "report.json");
+    for (const char* key : {"\"status\": \"converged\"", "\"mass\": \"mixed\"", "\"iterations\": ",
+                            "\"max_residual\": ", "\"sigma\": -", "\"seconds\": "})
+        EXPECT_NE(report.find(key), std::string::npos) << key << "\n" << report;
+}
+
+TEST_F(Cli, SolvesOnConvertedAndIntrinsicMeshes) {
+    write_mesh(dir_ / "grid.obj", make_grid(8, 8, 1.0, 1.0, 1.7));  // sheared: not self-Delaunay
+    for (const char* choice : {"--convert split", "--intrinsic"}) {
+        const fs::path out = dir_ / "eigs";
+        ASSERT_EQ(run("eigs " + (dir_ / "grid.obj").string() + " -k 4 --out " + out.string() + " " + choice), 0)
+            << choice << ": " << read(dir_ / "err.txt");
+        std::istringstream csv(read(out / "eigenvalues.csv"));
+        double first = 1;
+        csv >> first;
+        EXPECT_NEAR(first, 0.0, 1e-8) << choice;  // the constants, Neumann boundary
+        EXPECT_NE(read(out / "report.json").find("\"status\": \"converged\""), std::string::npos) << choice;
+    }
+}
+
+TEST_F(Cli, RejectsBadArguments) {
+    write_mesh(dir_ / "sphere.off", make_icosphere(0));
+    const std::string mesh = (dir_ / "sphere.off").string(), out = " --out " + (dir_ / "o").string();
+    EXPECT_EQ(run("eigs " + mesh + out), 2);                       // no -k
+    EXPECT_EQ(run("eigs " + mesh + " -k 2.5" + out), 2);           // not whole
+    EXPECT_EQ(run("eigs " + mesh + " -k 3"), 2);                   // no --out
+    EXPECT_EQ(run("eigs " + mesh + " -k 3 --intrinsic --convert split" + out), 2);
+    EXPECT_EQ(run("eigs " + mesh + " -k 3 --convert sideways" + out), 2);
+    EXPECT_EQ(run("eigs " + mesh + " -k 12" + out), 7);            // k >= n
+    EXPECT_NE(read(dir_ / "err.txt").find("k must satisfy"), std::string::npos);
+    EXPECT_FALSE(fs::exists(dir_ / "o" / "eigenvalues.csv"));
+}
+
+}  // namespace
+}  // namespace sdmesh

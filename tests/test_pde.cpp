@@ -1,0 +1,416 @@
+// Poisson, heat and heat-method geodesics: manufactured solutions converging at second order,
+// Dirichlet data met exactly, heat steps against the spectrum, geodesic distance against the
+// great circle and the plane, several sources, intrinsic triangulations, argument errors,
+// `sdmesh geodesic`, `sdmesh poisson`, `sdmesh heat`.
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "cli_run.hpp"
+#include "sdmesh/eigen.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/intrinsic.hpp"
+#include "sdmesh/io.hpp"
+#include "sdmesh/operators.hpp"
+#include "sdmesh/pde.hpp"
+#include "sdmesh/shapes.hpp"
+
+namespace sdmesh {
+namespace {
+
+using Sparse = Eigen::SparseMatrix<double>;
+constexpr double kPi = std::numbers::pi;
+
+// √((u − v)ᵀ M (u − v)): the discrete L2 norm of u − v.
+double l2_error(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Sparse& M) {
+    const Eigen::VectorXd d = u - v;
+    return std::sqrt(d.dot(M * d));
+}
+
+// Boundary vertices of make_grid(n, n), in index order.
+std::vector<int> grid_boundary(int n) {
+    std::vector<int> boundary;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            if (i == 0 || j == 0 || i == n || j == n) boundary.push_back(j * (n + 1) + i);
+    return boundary;
+}
+
+// Halving h divides a second-order error by 4; "at least 3" leaves room for pre-asymptotic levels.
+constexpr double kSecondOrderRatio = 3.0;
+
+// ---- Poisson -----------------------------------------------------------------------------------------
+
+// On the unit sphere Δz = −2z, so L u = M (2z) is solved by u = z, which has zero mean.
+TEST(Poisson, SphereManufacturedSolutionConvergesAtSecondOrder) {
+    double previous = std::numeric_limits<double>::infinity();
+    for (int level = 2; level <= 5; ++level) {
+        const TriangleMesh mesh = make_icosphere(level);
+        const Triangulation t = Triangulation::from_mesh(mesh);
+        const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::barycentric);
+        const Eigen::VectorXd z = mesh.V.col(2);
+        const Eigen::VectorXd u = PoissonSolver(L, M).solve(M * (2.0 * z));
+        EXPECT_NEAR((M * u).sum(), 0.0, 1e-12) << "level " << level;  // zero M-mean
+        const double error = l2_error(u, z, M);
+        EXPECT_LT(error, previous / kSecondOrderRatio) << "level " << level;
+        previous = error;
+    }
+}
+
+// u = sin(πx)cos(πy) + x² on the unit square, −Δu = 2π² sin(πx)cos(πy) − 2, u given on the boundary.
+TEST(Poisson, SquareWithDirichletDataConvergesAtSecondOrderAndMeetsTheData) {
+    auto exact = [](double x, double y) { return std::sin(kPi * x) * std::cos(kPi * y) + x * x; };
+    auto source = [](double x, double y) { return 2 * kPi * kPi * std::sin(kPi * x) * std::cos(kPi * y) - 2; };
+    double previous = std::numeric_limits<double>::infinity();
+    for (int n : {8, 16, 32, 64}) {
+        const TriangleMesh mesh = make_grid(n, n);
+        const Triangulation t = Triangulation::from_mesh(mesh);
+        const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::barycentric);
+        Eigen::VectorXd u_exact(mesh.num_vertices()), f(mesh.num_vertices());
+        for (int v = 0; v < mesh.num_vertices(); ++v) {
+            u_exact[v] = exact(mesh.V(v, 0), mesh.V(v, 1));
+            f[v] = source(mesh.V(v, 0), mesh.V(v, 1));
+        }
+        const std::vector<int> boundary = grid_boundary(n);
+        Eigen::VectorXd g(static_cast<Eigen::Index>(boundary.size()));
+        for (size_t i = 0; i < boundary.size(); ++i) g[static_cast<Eigen::Index>(i)] = u_exact[boundary[i]];
+        const Eigen::VectorXd u = PoissonSolver(L, M, boundary).solve(M * f, g);
+        for (size_t i = 0; i < boundary.size(); ++i) EXPECT_EQ(u[boundary[i]], g[static_cast<Eigen::Index>(i)]);
+        const double error = l2_error(u, u_exact, M);
+        EXPECT_LT(error, previous / kSecondOrderRatio) << "n = " << n;
+        previous = error;
+    }
+}
+
+// The unit disk: the grid on [−1, 1]² mapped by (x√(1 − y²/2), y√(1 − x²/2)), which takes the
+// square's sides onto the circle. u = eˣcos y + x²y, −Δu = −2y, u given on the boundary circle.
+TEST(Poisson, DiskWithDirichletDataConvergesAtSecondOrderAndMeetsTheData) {
+    double previous = std::numeric_limits<double>::infinity();
+    for (int n : {8, 16, 32, 64}) {
+        TriangleMesh mesh = make_grid(n, n, 2.0, 2.0);
+        for (int v = 0; v < mesh.num_vertices(); ++v) {
+            const double x = mesh.V(v, 0) - 1, y = mesh.V(v, 1) - 1;
+            mesh.V(v, 0) = x * std::sqrt(1 - y * y / 2);
+            mesh.V(v, 1) = y * std::sqrt(1 - x * x / 2);
+        }
+        const Triangulation t = Triangulation::from_mesh(mesh);
+        const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::barycentric);
+        Eigen::VectorXd u_exact(mesh.num_vertices()), f(mesh.num_vertices());
+        for (int v = 0; v < mesh.num_vertices(); ++v) {
+            const double x = mesh.V(v, 0), y = mesh.V(v, 1);
+            u_exact[v] = std::exp(x) * std::cos(y) + x * x * y;
+            f[v] = -2 * y;
+        }
+        const std::vector<int> boundary = grid_boundary(n);
+        Eigen::VectorXd g(static_cast<Eigen::Index>(boundary.size()));
+        for (size_t i = 0; i < boundary.size(); ++i) g[static_cast<Eigen::Index>(i)] = u_exact[boundary[i]];
+        const Eigen::VectorXd u = PoissonSolver(L, M, boundary).solve(M * f, g);
+        for (size_t i = 0; i < boundary.size(); ++i) EXPECT_EQ(u[boundary[i]], g[static_cast<Eigen::Index>(i)]);
+        const double error = l2_error(u, u_exact, M);
+        EXPECT_LT(error, previous / kSecondOrderRatio) << "n = " << n;
+        previous = error;
+    }
+}
+
+// u = cos(πx)cos(πy): −Δu = 2π²u, ∂u/∂n = 0 on the boundary (the natural condition), mean 0.
+TEST(Poisson, SquareWithNeumannBoundaryConvergesAtSecondOrder) {
+    double previous = std::numeric_limits<double>::infinity();
+    for (int n : {8, 16, 32, 64}) {
+        const TriangleMesh mesh = make_grid(n, n);
+        const Triangulation t = Triangulation::from_mesh(mesh);
+        const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::barycentric);
+        Eigen::VectorXd u_exact(mesh.num_vertices());
+        for (int v = 0; v < mesh.num_vertices(); ++v)
+            u_exact[v] = std::cos(kPi * mesh.V(v, 0)) * std::cos(kPi * mesh.V(v, 1));
+        const Eigen::VectorXd u = PoissonSolver(L, M).solve(M * (2 * kPi * kPi * u_exact));
+        const double error = l2_error(u, u_exact, M);
+        EXPECT_LT(error, previous / kSecondOrderRatio) << "n = " << n;
+        previous = error;
+    }
+}
+
+// Two spheres: each component is solved on its own, with zero mean; a constant added to f on one
+// sphere is the incompatible part and is removed.
+TEST(Poisson, EachComponentWithoutDirichletDataHasZeroMean) {
+    const TriangleMesh a = make_icosphere(3);
+    TriangleMesh both;
+    both.V.resize(2 * a.V.rows(), 3);
+    both.V << a.V, a.V.rowwise() + Eigen::RowVector3d(3, 0, 0);
+    both.F.resize(2 * a.F.rows(), 3);
+    both.F << a.F, (a.F.array() + static_cast<int>(a.V.rows())).matrix();
+    const Triangulation t = Triangulation::from_mesh(both);
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    const Eigen::VectorXd z = both.V.col(2);
+    Eigen::VectorXd f = 2.0 * z;
+    f.tail(a.V.rows()).array() += 5.0;
+    const Eigen::VectorXd u = PoissonSolver(L, M).solve(M * f);
+    const Triangulation ta = Triangulation::from_mesh(a);
+    const Sparse Ma = mass_matrix(ta);
+    const Eigen::VectorXd single = PoissonSolver(cotan_laplacian(ta), Ma).solve(Ma * Eigen::VectorXd(2.0 * a.V.col(2)));
+    const double scale = single.cwiseAbs().maxCoeff();
+    EXPECT_LT((u.head(a.V.rows()) - single).cwiseAbs().maxCoeff(), 1e-10 * scale);
+    EXPECT_LT((u.tail(a.V.rows()) - single).cwiseAbs().maxCoeff(), 1e-10 * scale);
+}
+
+TEST(Poisson, ArgumentsAreChecked) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(1));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    EXPECT_THROW(PoissonSolver(L, Sparse(M.topLeftCorner(5, 5))), InvalidArgumentError);
+    EXPECT_THROW(PoissonSolver(L, M, {0, 0}), InvalidArgumentError);
+    EXPECT_THROW(PoissonSolver(L, M, {42}), InvalidArgumentError);
+    const PoissonSolver poisson(L, M, {0, 1});
+    EXPECT_THROW((void)poisson.solve(Eigen::VectorXd::Ones(41)), InvalidArgumentError);
+    EXPECT_THROW((void)poisson.solve(Eigen::VectorXd::Ones(42), Eigen::VectorXd::Ones(3)), InvalidArgumentError);
+}
+
+// ---- heat --------------------------------------------------------------------------------------------
+
+// An eigenvector φ (L φ = λ M φ) decays by exactly 1/(1 + tλ) per backward Euler step.
+TEST(Heat, EigenvectorsDecayByTheBackwardEulerFactor) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(3));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::mixed_voronoi);
+    const EigenResult eig = smallest_eigenpairs(L, M, {.k = 10});
+    HeatSolver heat(L, M, 0.05);
+    for (int j : {0, 3, 9}) {
+        const Eigen::VectorXd phi = eig.vectors.col(j);
+        for (double step : {0.05, 0.2}) {
+            heat.set_time_step(step);
+            const Eigen::VectorXd u = heat.step(phi, 3);
+            const Eigen::VectorXd expected = std::pow(1 + step * eig.values[j], -3) * phi;
+            EXPECT_LT(l2_error(u, expected, M), 1e-8) << "pair " << j << ", step " << step;
+        }
+    }
+}
+
+// With the natural boundary, 1ᵀL = 0, so every step conserves the total heat 1ᵀMu; with the
+// boundary held at 0, heat leaves and u stays 0 there.
+TEST(Heat, ConservesHeatWithNeumannAndLosesItWithDirichletBoundary) {
+    const int n = 20;
+    const Triangulation t = Triangulation::from_mesh(make_grid(n, n));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    Eigen::VectorXd u0 = Eigen::VectorXd::Zero(t.num_vertices);
+    u0[(n / 2) * (n + 1) + n / 2] = 1.0;
+    const double total = (M * u0).sum();
+    const Eigen::VectorXd neumann = HeatSolver(L, M, 0.01).step(u0, 5);
+    EXPECT_NEAR((M * neumann).sum(), total, 1e-14 * total);
+    const std::vector<int> boundary = grid_boundary(n);
+    const Eigen::VectorXd dirichlet = HeatSolver(L, M, 0.01, boundary).step(u0, 5);
+    EXPECT_LT((M * dirichlet).sum(), total);
+    for (int v : boundary) EXPECT_EQ(dirichlet[v], 0.0);
+    EXPECT_GE(dirichlet.minCoeff(), 0.0);  // maximum principle: M-matrix system, non-negative data
+}
+
+TEST(Heat, ArgumentsAreChecked) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(1));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    EXPECT_THROW(HeatSolver(L, M, 0.0), InvalidArgumentError);
+    EXPECT_THROW(HeatSolver(L, M, std::nan("")), InvalidArgumentError);
+    HeatSolver heat(L, M, 1.0);
+    EXPECT_THROW(heat.set_time_step(-1.0), InvalidArgumentError);
+    EXPECT_THROW((void)heat.step(Eigen::VectorXd::Ones(41)), InvalidArgumentError);
+    EXPECT_THROW((void)heat.step(Eigen::VectorXd::Ones(42), -1), InvalidArgumentError);
+}
+
+// ---- heat-method geodesics ---------------------------------------------------------------------------
+
+// Mean of |d − exact| / exact over the vertices where exact > 0.
+double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
+    double sum = 0;
+    int count = 0;
+    for (Eigen::Index v = 0; v < d.size(); ++v) {
+        if (exact[v] <= 0) continue;
+        sum += std::abs(d[v] - exact[v]) / exact[v];
+        ++count;
+    }
+    return sum / count;
+}
+
+// Great-circle distance on the unit sphere from vertex s.
+Eigen::VectorXd great_circle(const TriangleMesh& mesh, int s) {
+    Eigen::VectorXd d(mesh.num_vertices());
+    const Eigen::Vector3d p = mesh.V.row(s).normalized();
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+        const Eigen::Vector3d q = mesh.V.row(v).normalized();
+        d[v] = std::atan2(p.cross(q).norm(), p.dot(q));
+    }
+    return d;
+}
+
+TEST(Geodesics, SphereDistanceApproachesTheGreatCircle) {
+    double previous = std::numeric_limits<double>::infinity();
+    for (int level = 3; level <= 5; ++level) {
+        const TriangleMesh mesh = make_icosphere(level);
+        const Eigen::VectorXd d = heat_geodesic_distance(Triangulation::from_mesh(mesh), {0});
+        EXPECT_EQ(d[0], 0.0);
+        const double error = mean_relative_error(d, great_circle(mesh, 0));
+        if (level == 5) {
+            EXPECT_LE(error, 0.01) << mesh.num_vertices() << " vertices";
+        }
+        EXPECT_LT(error, previous) << "level " << level;
+        previous = error;
+    }
+}
+
+// Several sources: the distance to the nearest, i.e. the pointwise minimum of the single-source
+// distances, within the error the method makes for one source (mean absolute error; the largest
+// errors sit on the cut locus, where the heat flow rounds the kink off over a width of about √t).
+TEST(Geodesics, SeveralSourcesGiveTheDistanceToTheNearest) {
+    const TriangleMesh mesh = make_icosphere(4);
+    const HeatGeodesics geodesics(Triangulation::from_mesh(mesh));
+    const std::vector<int> sources = {0, 5, 11};
+    Eigen::VectorXd nearest = Eigen::VectorXd::Constant(mesh.num_vertices(), std::numeric_limits<double>::infinity());
+    Eigen::VectorXd exact = nearest;
+    double single_error = 0;  // largest mean absolute error of a single-source run
+    for (int s : sources) {
+        const Eigen::VectorXd d = geodesics.distance({s}), e = great_circle(mesh, s);
+        single_error = std::max(single_error, (d - e).cwiseAbs().mean());
+        nearest = nearest.cwiseMin(d);
+        exact = exact.cwiseMin(e);
+    }
+    const Eigen::VectorXd d = geodesics.distance(sources);
+    EXPECT_LE((d - exact).cwiseAbs().mean(), 2 * single_error);
+    EXPECT_LE((d - nearest).cwiseAbs().mean(), 3 * single_error);  // both carry the method's error
+    for (int s : sources) EXPECT_LE(std::abs(d[s]), single_error) << "source " << s;
+}
+
+// In a convex planar domain the geodesic distance is the Euclidean one; the boundary needs the
+// averaged Neumann/Dirichlet heat (Crane et al. §3.2). The iDT of a sheared (non-Delaunay) grid
+// gives the same distances, since it describes the same flat metric.
+TEST(Geodesics, PlanarDistanceIsEuclideanOnExtrinsicAndIntrinsicMeshes) {
+    double previous = std::numeric_limits<double>::infinity();
+    for (int n : {16, 32, 64}) {
+        const TriangleMesh mesh = make_grid(n, n);
+        const int source = (n / 4) * (n + 1) + n / 2;
+        Eigen::VectorXd exact(mesh.num_vertices());
+        for (int v = 0; v < mesh.num_vertices(); ++v) exact[v] = (mesh.V.row(v) - mesh.V.row(source)).norm();
+        const HeatGeodesics geodesics(Triangulation::from_mesh(mesh));
+        EXPECT_EQ(geodesics.report().boundary_vertices, 4 * n);
+        const double error = mean_relative_error(geodesics.distance({source}), exact);
+        EXPECT_LT(error, previous) << "n = " << n;
+        previous = error;
+
+        const TriangleMesh sheared = make_grid(n, n, 1.0, 1.0, 1.7);
+        Eigen::VectorXd sheared_exact(mesh.num_vertices());
+        for (int v = 0; v < mesh.num_vertices(); ++v)
+            sheared_exact[v] = (sheared.V.row(v) - sheared.V.row(source)).norm();
+        const Triangulation idt = intrinsic_delaunay(Triangulation::from_mesh(sheared)).triangulation;
+        EXPECT_LT(mean_relative_error(heat_geodesic_distance(idt, {source}), sheared_exact), 2 * error) << "n = " << n;
+    }
+}
+
+TEST(Geodesics, ComponentsWithoutASourceAreInfinitelyFar) {
+    const TriangleMesh a = make_icosphere(2);
+    TriangleMesh both;
+    both.V.resize(2 * a.V.rows(), 3);
+    both.V << a.V, a.V.rowwise() + Eigen::RowVector3d(3, 0, 0);
+    both.F.resize(2 * a.F.rows(), 3);
+    both.F << a.F, (a.F.array() + static_cast<int>(a.V.rows())).matrix();
+    const Eigen::VectorXd d = heat_geodesic_distance(Triangulation::from_mesh(both), {0});
+    const Eigen::VectorXd alone = heat_geodesic_distance(Triangulation::from_mesh(a), {0});
+    EXPECT_LT((d.head(a.V.rows()) - alone).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_TRUE(d.tail(a.V.rows()).array().isInf().all());
+}
+
+TEST(Geodesics, ArgumentsAreChecked) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(1));
+    EXPECT_THROW((void)heat_geodesic_distance(t, {}), InvalidArgumentError);
+    EXPECT_THROW((void)heat_geodesic_distance(t, {42}), InvalidArgumentError);
+    EXPECT_THROW((void)heat_geodesic_distance(t, {0}, {.time = -1.0}), InvalidArgumentError);
+}
+
+// ---- the CLI ---------------------------------------------------------------------------------------
+
+using Cli = test::CliTest;
+
+// The field `name` of a binary PLY written with x, y, z and that field as doubles per vertex.
+Eigen::VectorXd read_vertex_field(const std::string& ply, const std::string& name, int vertices) {
+    const std::string end = "end_header\n";
+    const size_t body = ply.find(end) + end.size();
+    EXPECT_NE(ply.find("property double " + name + "\n"), std::string::npos) << name;
+    Eigen::VectorXd distance(vertices);
+    for (int v = 0; v < vertices; ++v)
+        std::memcpy(&distance[v], ply.data() + body + (4 * static_cast<size_t>(v) + 3) * sizeof(double), sizeof(double));
+    return distance;
+}
+
+TEST_F(Cli, GeodesicWritesTheLibrarysDistance) {
+    write_mesh(dir_ / "sphere.off", make_icosphere(3));
+    const Triangulation t = Triangulation::from_mesh(read_mesh(dir_ / "sphere.off"));
+    for (const char* choice : {"", " --intrinsic"}) {  // the icosphere is its own iDT
+        ASSERT_EQ(run("geodesic " + (dir_ / "sphere.off").string() + " --source 0,7 --out " +
+                      (dir_ / "d.ply").string() + choice),
+                  0)
+            << read(dir_ / "err.txt");
+        EXPECT_EQ(read_vertex_field(read(dir_ / "d.ply"), "distance", t.num_vertices), heat_geodesic_distance(t, {0, 7}))
+            << choice;
+        const std::string report = read(dir_ / "out.txt");
+        for (const char* key : {"\"sources\": 2", "\"time\": ", "\"precompute_seconds\": ", "\"query_seconds\": "})
+            EXPECT_NE(report.find(key), std::string::npos) << key << "\n" << report;
+    }
+}
+
+TEST_F(Cli, GeodesicRejectsBadArguments) {
+    write_mesh(dir_ / "sphere.off", make_icosphere(0));
+    const std::string mesh = (dir_ / "sphere.off").string(), out = " --out " + (dir_ / "d.ply").string();
+    EXPECT_EQ(run("geodesic " + mesh + out), 2);                           // no source
+    EXPECT_EQ(run("geodesic " + mesh + " --source 1"), 2);                 // no output
+    EXPECT_EQ(run("geodesic " + mesh + " --source 1,x" + out), 2);
+    EXPECT_EQ(run("geodesic " + mesh + " --source -1" + out), 2);
+    EXPECT_EQ(run("geodesic " + mesh + " --source 12" + out), 7);          // out of range
+    EXPECT_EQ(run("geodesic " + mesh + " --source 1 --time 0" + out), 7);
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "d.ply"));
+}
+
+TEST_F(Cli, PoissonAndHeatWriteTheLibrarysSolutions) {
+    const TriangleMesh mesh = make_icosphere(3);
+    write_mesh(dir_ / "sphere.off", mesh);
+    const Triangulation t = Triangulation::from_mesh(read_mesh(dir_ / "sphere.off"));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    const Eigen::VectorXd f = 2.0 * mesh.V.col(2);
+    {
+        std::ofstream file(dir_ / "f.txt");
+        file.precision(17);
+        for (double value : f) file << value << '\n';
+        std::ofstream dirichlet(dir_ / "dirichlet.txt");
+        dirichlet << "# vertex value\n3 0.25\n7 -1.5\n";
+    }
+    const std::string sphere = (dir_ / "sphere.off").string(), out = " --out " + (dir_ / "u.ply").string();
+    ASSERT_EQ(run("poisson " + sphere + " --f " + (dir_ / "f.txt").string() + " --dirichlet " +
+                  (dir_ / "dirichlet.txt").string() + out),
+              0)
+        << read(dir_ / "err.txt");
+    const Eigen::VectorXd u = read_vertex_field(read(dir_ / "u.ply"), "u", t.num_vertices);
+    EXPECT_EQ(u, PoissonSolver(L, M, {3, 7}).solve(M * f, Eigen::Vector2d(0.25, -1.5)));
+    EXPECT_EQ(u[3], 0.25);
+    EXPECT_EQ(u[7], -1.5);
+
+    ASSERT_EQ(run("heat " + sphere + " --source 0,4 --time 0.1 --steps 2" + out), 0) << read(dir_ / "err.txt");
+    Eigen::VectorXd u0 = Eigen::VectorXd::Zero(t.num_vertices);
+    u0[0] = u0[4] = 1;
+    EXPECT_EQ(read_vertex_field(read(dir_ / "u.ply"), "u", t.num_vertices), HeatSolver(L, M, 0.1).step(u0, 2));
+
+    {
+        std::ofstream short_file(dir_ / "short.txt");
+        short_file << "1\n2\n";
+        std::ofstream bad(dir_ / "bad.txt");
+        bad << "9999 1\n";
+    }
+    EXPECT_EQ(run("poisson " + sphere + " --f " + (dir_ / "short.txt").string() + out), 5);
+    EXPECT_EQ(run("poisson " + sphere + " --f " + (dir_ / "f.txt").string() + " --dirichlet " +
+                  (dir_ / "bad.txt").string() + out),
+              7);
+    EXPECT_EQ(run("poisson " + sphere + out), 2);  // no --f
+    EXPECT_EQ(run("heat " + sphere + " --source 0 --time 0" + out), 7);
+    EXPECT_EQ(run("heat " + sphere + " --source 0 --u0 " + (dir_ / "f.txt").string() + " --time 1" + out), 2);
+}
+
+}  // namespace
+}  // namespace sdmesh
