@@ -21,6 +21,7 @@
 
 #include "cli_run.hpp"
 #include "corpus.hpp"
+#include "matrix_market_reader.hpp"
 #include "meshes.hpp"
 #include "sdmesh/convert.hpp"
 #include "sdmesh/delaunay.hpp"
@@ -481,25 +482,7 @@ protected:
     [[nodiscard]] std::string out() const { return read(dir_ / "out.txt"); }
 };
 
-// A reader for the coordinate real general files we write.
-Sparse parse_matrix_market(const std::string& text) {
-    std::istringstream in(text);
-    std::string line;
-    std::getline(in, line);
-    long long rows = 0, cols = 0, nnz = 0;
-    in >> rows >> cols >> nnz;
-    std::vector<Eigen::Triplet<double>> triplets;
-    for (long long k = 0; k < nnz; ++k) {
-        long long i = 0, j = 0;
-        double x = 0;
-        in >> i >> j >> x;
-        triplets.emplace_back(static_cast<int>(i - 1), static_cast<int>(j - 1), x);
-    }
-    EXPECT_FALSE(in.fail());
-    Sparse m(static_cast<int>(rows), static_cast<int>(cols));
-    m.setFromTriplets(triplets.begin(), triplets.end());
-    return m;
-}
+using test::parse_matrix_market;
 
 TEST_F(Cli, WritesTheOperatorFilesOfTheIntrinsicTriangulation) {
     const std::string bunny = std::string(SDMESH_TEST_DATA_DIR) + "/bunny.obj";  // closed, not Delaunay

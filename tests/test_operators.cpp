@@ -25,6 +25,7 @@
 
 #include "corpus.hpp"
 #include "cli_runner.hpp"
+#include "matrix_market_reader.hpp"
 #include "meshes.hpp"
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/error.hpp"
@@ -601,26 +602,7 @@ TEST(Determinism, BitIdenticalForOneAndSeveralThreads) {
 
 // ---- Matrix Market files and the CLI ------------------------------------------------------------------
 
-// A reader for the coordinate real general files we write (duplicates are summed, as mmread does).
-Sparse parse_matrix_market(const std::string& text) {
-    std::istringstream in(text);
-    std::string line;
-    std::getline(in, line);
-    EXPECT_EQ(line, "%%MatrixMarket matrix coordinate real general");
-    long long rows = 0, cols = 0, nnz = 0;
-    in >> rows >> cols >> nnz;
-    std::vector<Eigen::Triplet<double>> triplets;
-    for (long long k = 0; k < nnz; ++k) {
-        long long i = 0, j = 0;
-        double x = 0;
-        in >> i >> j >> x;
-        triplets.emplace_back(static_cast<int>(i - 1), static_cast<int>(j - 1), x);
-    }
-    EXPECT_FALSE(in.fail());
-    Sparse m(static_cast<int>(rows), static_cast<int>(cols));
-    m.setFromTriplets(triplets.begin(), triplets.end());
-    return m;
-}
+using test::parse_matrix_market;
 
 using test::read_text;
 
