@@ -113,8 +113,7 @@ private:
         if (k.s < 0)
             return options_.boundary == BoundaryPolicy::free ||
                    boundary_margin(l, dist(k.a, k.r), dist(k.b, k.r)) >= -options_.tolerance;
-        return delaunay_margin(l, dist(k.a, k.r), dist(k.b, k.r), dist(k.a, k.s), dist(k.b, k.s)) >=
-               -options_.tolerance;
+        return is_locally_delaunay(l, dist(k.a, k.r), dist(k.b, k.r), dist(k.a, k.s), dist(k.b, k.s), options_.tolerance);
     }
 
     // Interior edge whose face normals differ by at most `angle` radians.
@@ -319,7 +318,8 @@ private:
 };
 
 void check_options(const ConvertOptions& o) {
-    if (!(o.tolerance >= 0)) throw InvalidArgumentError("convert: tolerance must be >= 0");
+    if (!(o.tolerance >= 0 && o.tolerance < kPi / 2))
+        throw InvalidArgumentError("convert: tolerance must be in [0, π/2)");
     if (!(o.max_dihedral_deg >= 0 && o.max_dihedral_deg <= 180))
         throw InvalidArgumentError("convert: max_dihedral_deg must be in [0, 180]");
     if (!(o.coplanar_tolerance >= 0)) throw InvalidArgumentError("convert: coplanar_tolerance must be >= 0");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <limits>
 #include <string>
 #include <utility>
@@ -84,8 +85,8 @@ void count_improper_edges(const Triangulation& t, IntrinsicReport& report) {
 
 IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOptions& options) {
     const auto start = std::chrono::steady_clock::now();
-    if (!(options.tolerance >= 0) || !std::isfinite(options.tolerance))
-        throw InvalidArgumentError("intrinsic_delaunay: tolerance must be finite and >= 0, got " +
+    if (!(options.tolerance >= 0 && options.tolerance < std::numbers::pi / 2))
+        throw InvalidArgumentError("intrinsic_delaunay: tolerance must be in [0, π/2), got " +
                                    std::to_string(options.tolerance));
     t.check();
     require_oriented(t);
@@ -128,10 +129,9 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
         const int e_rp = mesh.edge(HalfedgeMesh::prev(h)), e_qr = mesh.edge(HalfedgeMesh::next(h));
         const int e_ps = mesh.edge(HalfedgeMesh::next(tw)), e_sq = mesh.edge(HalfedgeMesh::prev(tw));
         const double l = len[e], a = len[e_rp], b = len[e_qr], c = len[e_ps], d = len[e_sq];
-        // The same shortcut: two non-obtuse opposite angles make the edge LD, and skipping the
-        // margin's atan2 then gives its verdict (its sine term is >= 0).
+        // The same shortcut: two non-obtuse opposite angles make the edge LD.
         if (cosine_numerator(l, a, b) >= 0 && cosine_numerator(l, c, d) >= 0) continue;
-        if (!(delaunay_margin(l, a, b, c, d) < -tolerance)) continue;
+        if (is_locally_delaunay(l, a, b, c, d, tolerance)) continue;
         if (flips == budget) {
             exhausted = true;
             break;

@@ -141,6 +141,7 @@ TEST(DelaunayMargin, ThreeTestsAgreeOnRandomHinges) {
         EXPECT_NEAR(margin, kPi - h.alpha - h.beta, 1e-6) << "hinge " << i;
         if (std::abs(margin) < 1e-9) continue;
         ++checked;
+        EXPECT_EQ(is_locally_delaunay(h.l, h.a, h.b, h.c, h.d), margin >= -kDelaunayTolerance) << "hinge " << i;
         const bool ld = margin > 0;
         EXPECT_EQ(is_delaunay_sqrt_free(h.l, h.a, h.b, h.c, h.d), ld) << "hinge " << i;
         EXPECT_EQ(cotan_weight(h.l, h.a, h.b, h.c, h.d) > 0, ld) << "hinge " << i;

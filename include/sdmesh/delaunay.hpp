@@ -33,6 +33,11 @@ enum class BoundaryPolicy {
 /// [-π, π], from lengths only (one atan2; accurate for needles and near-co-circular hinges).
 [[nodiscard]] double delaunay_margin(double l, double a, double b, double c, double d);
 
+/// The verdict delaunay_margin(l, a, b, c, d) >= -tolerance, without evaluating the angle: for
+/// the hot loops of flipping and conversion. \pre 0 <= tolerance < π/2.
+[[nodiscard]] bool is_locally_delaunay(double l, double a, double b, double c, double d,
+                                       double tolerance = kDelaunayTolerance);
+
 /// π/2 - α for a boundary edge of length l in the face (l, a, b).
 [[nodiscard]] double boundary_margin(double l, double a, double b);
 
