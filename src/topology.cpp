@@ -24,9 +24,14 @@ std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const Edge
             twin[table.edge_halfedges(e, 0)] = table.edge_halfedges(e, 1);
             twin[table.edge_halfedges(e, 1)] = table.edge_halfedges(e, 0);
         }
+    // The corners' vertices face by face (F is stored column by column): one cache line per face
+    // for the walks below.
+    std::vector<int> corner_vertex(static_cast<size_t>(num_halfedges));
+    for (int k = 0; k < 3; ++k)
+        for (int f = 0; f < num_faces; ++f) corner_vertex[3 * f + k] = F(f, k);
     for (int c = 0; c < num_halfedges; ++c) {
         if (!valid_face[c / 3]) continue;
-        const int v = F(c / 3, c % 3);
+        const int v = corner_vertex[c];
         ++corners[v];
         if (first[v] < 0) first[v] = c;
     }
@@ -35,9 +40,9 @@ std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const Edge
     // side at the vertex; this does not assume a consistent orientation.
     auto next = [](int c) { return c - c % 3 + (c % 3 + 1) % 3; };
     auto prev = [](int c) { return c - c % 3 + (c % 3 + 2) % 3; };
-    auto corner_in_face = [&F](int h, int v) {
+    auto corner_in_face = [&corner_vertex](int h, int v) {
         const int base = h - h % 3;
-        return F(base / 3, 0) == v ? base : F(base / 3, 1) == v ? base + 1 : base + 2;
+        return corner_vertex[base] == v ? base : corner_vertex[base + 1] == v ? base + 1 : base + 2;
     };
     std::vector<char> bad(static_cast<size_t>(num_vertices), 0);
 #pragma omp parallel for schedule(dynamic, 4096)
