@@ -100,6 +100,13 @@ TEST_F(Cli, ErrorsHaveDistinctExitCodesAndOneLine) {
     expect_error("check", 2, "usage");
     expect_error("check " + kBunny + " --frobnicate", 2, "--frobnicate");
     expect_error("transmogrify " + kBunny, 2, "transmogrify");
+    // Missing required options, for every command that has them.
+    expect_error("operators " + kBunny, 2, "--out DIR is required");
+    expect_error("intrinsic " + kBunny, 2, "--out DIR is required");
+    expect_error("eigs " + kBunny + " --out " + path("e"), 2, "-k K");
+    expect_error("geodesic " + kBunny, 2, "--source and --out are required");
+    expect_error("poisson " + kBunny, 2, "--f and --out are required");
+    expect_error("heat " + kBunny, 2, "are required");
 }
 
 }  // namespace

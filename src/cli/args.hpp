@@ -51,6 +51,12 @@ public:
         throw UsageError(command_ + ": " + std::string(name) + " expects a number, got '" + *text + "'");
     }
 
+    /// Throws the one-line usage error for required options that are missing, e.g.
+    /// missing("--out DIR is", usage) -> "sdmesh operators: --out DIR is required; usage: ...".
+    [[noreturn]] void missing(std::string_view what, std::string_view usage) const {
+        throw UsageError(command_ + ": " + std::string(what) + " required; usage: " + std::string(usage));
+    }
+
     /// The remaining words, in order, once options and flags are consumed; `expected` of them.
     std::vector<std::string> positionals(size_t expected, std::string_view usage) {
         std::vector<std::string> rest;

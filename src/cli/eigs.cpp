@@ -55,9 +55,9 @@ int run_eigs(Args& args) {
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);
     const auto out = args.option("--out");
     const auto path = args.positionals(1, usage)[0];
-    if (!out) throw UsageError(std::string("sdmesh eigs: --out DIR is required\nusage: ") + usage);
+    if (!out) args.missing("--out DIR is", usage);
     if (!k || *k != std::floor(*k) || std::abs(*k) > 1e9)
-        throw UsageError(std::string("sdmesh eigs: -k K (a whole number) is required\nusage: ") + usage);
+        args.missing("-k K (a whole number) is", usage);
     options.k = static_cast<int>(*k);
     const std::filesystem::path dir = *out;
 

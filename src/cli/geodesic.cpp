@@ -24,7 +24,7 @@ int run_geodesic(Args& args) {
     const auto out = args.option("--out");
     const auto path = args.positionals(1, usage)[0];
     if (!source || !out)
-        throw UsageError(std::string("sdmesh geodesic: --source and --out are required\nusage: ") + usage);
+        args.missing("--source and --out are", usage);
     const std::vector<int> sources = parse_vertex_list("--source", *source);
 
     JsonObject report;

@@ -27,7 +27,7 @@ int run_intrinsic(Args& args) {
     }
     const auto out = args.option("--out");
     const auto path = args.positionals(1, usage)[0];
-    if (!out) throw UsageError(std::string("sdmesh intrinsic: --out DIR is required; usage: ") + usage);
+    if (!out) args.missing("--out DIR is", usage);
     const std::filesystem::path dir = *out;
 
     const auto start = std::chrono::steady_clock::now();

@@ -47,7 +47,7 @@ int run_poisson(Args& args) {
     const auto dirichlet_path = args.option("--dirichlet");
     const auto out = args.option("--out");
     const auto path = args.positionals(1, usage)[0];
-    if (!f_path || !out) throw UsageError(std::string("sdmesh poisson: --f and --out are required\nusage: ") + usage);
+    if (!f_path || !out) args.missing("--f and --out are", usage);
 
     JsonObject report;
     const SolverInput input = load_solver_input(path, choices, report);
@@ -92,8 +92,7 @@ int run_heat(Args& args) {
     const auto out = args.option("--out");
     const auto path = args.positionals(1, usage)[0];
     if (!out || !time || u0_path.has_value() == source.has_value())
-        throw UsageError(std::string("sdmesh heat: --time, --out and one of --u0, --source are required\nusage: ") +
-                         usage);
+        args.missing("--time, --out and one of --u0, --source are", usage);
     if (steps != std::floor(steps) || steps < 0 || steps > 1e9)
         throw UsageError("sdmesh heat: --steps must be a whole number >= 0");
 
