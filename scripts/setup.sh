@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sdmesh needs (only those missing), then configures and builds
 # Release with all cores into build/. Idempotent: a second run installs nothing and rebuilds
-# only what changed.
+# only what changed. `--tests` also installs what only the test suite needs (pytest for the
+# Python bindings, clang's libFuzzer for the short fuzz runs, matplotlib for the plot scripts).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config zlib1g-dev libeigen3-dev libspectra-dev libsuitesparse-dev
-          libopenmesh-dev libgtest-dev libbenchmark-dev libomp-dev)
+          libopenmesh-dev libgtest-dev libbenchmark-dev libomp-dev
+          python3-dev pybind11-dev python3-numpy python3-scipy)
+if [ "${1:-}" = "--tests" ]; then
+  packages+=(python3-pytest python3-matplotlib clang libclang-rt-dev)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
