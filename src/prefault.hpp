@@ -1,0 +1,19 @@
+#pragma once
+// Fresh large buffers get their pages from the kernel one fault at a time on first write; on a
+// virtual machine each fault is a trap to the hypervisor and filling 100 MB this way costs ~10×
+// the writes themselves. prefault() maps all pages of a block in one system call instead
+// (MADV_POPULATE_WRITE, Linux >= 5.14). Small blocks, other systems and older kernels: no-op.
+
+#include <cstddef>
+
+namespace sdmesh::detail {
+
+void prefault(void* data, std::size_t bytes);
+
+/// Prefaults the storage of a freshly sized contiguous container (Eigen dense, std::vector).
+template <class Container>
+void prefault(Container& c) {
+    prefault(static_cast<void*>(c.data()), static_cast<std::size_t>(c.size()) * sizeof(*c.data()));
+}
+
+}  // namespace sdmesh::detail
