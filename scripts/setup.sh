@@ -26,3 +26,11 @@ fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build --parallel "$(nproc)"
+
+# `import sdmesh` for the system python3: a .pth file in the user's site-packages names the package
+# folder of build/ (no root needed; `cmake --install build` installs the package instead).
+if [ -d build/python/sdmesh ]; then
+  site_dir=$(/usr/bin/python3 -c 'import site; print(site.getusersitepackages())')
+  mkdir -p "$site_dir"
+  echo "$PWD/build/python" > "$site_dir/sdmesh.pth"
+fi

@@ -42,31 +42,6 @@ BoundaryPolicy parse_boundary(Args& args) {
     throw UsageError("--boundary must be strict or free, got '" + value + "'");
 }
 
-void add_validation(JsonObject& json, const Inspection& in) {
-    const MeshInfo& info = in.info;
-    json.add("vertices", info.vertices)
-        .add("faces", info.faces)
-        .add("edges", info.edges)
-        .add("components", info.components)
-        .add("boundary_edges", info.boundary_edges)
-        .add("boundary_loops", info.boundary_loops)
-        .add("nonmanifold_edges", info.nonmanifold_edges)
-        .add("nonmanifold_vertices", info.nonmanifold_vertices)
-        .add("degenerate_faces", info.degenerate_faces)
-        .add("euler_characteristic", info.euler_characteristic)
-        .add("genus", info.genus)
-        .add("orientable", info.orientable)
-        .add("orientation_conflicts", info.orientation_conflicts)
-        .add("repeated_index_faces", info.repeated_index_faces)
-        .add("zero_area_faces", info.zero_area_faces)
-        .add("duplicate_faces", info.duplicate_faces)
-        .add("duplicate_vertex_positions", info.duplicate_vertex_positions)
-        .add("unreferenced_vertices", info.unreferenced_vertices)
-        .add("non_finite_vertices", info.non_finite_vertices)
-        .add("file_faces", in.read.file_faces)
-        .add("polygons", in.read.polygons);
-}
-
 }  // namespace
 
 int run_info(Args& args) {
@@ -111,9 +86,11 @@ int run_check(Args& args) {
 
     if (json) {
         JsonObject out;
-        out.add("file", path);
-        add_validation(out, in);
-        out.merge(certificate_json(cert, options)).add("seconds", seconds);
+        out.add("file", path)
+            .merge(mesh_info_json(in.info))
+            .merge(read_report_json(in.read))
+            .merge(certificate_json(cert, options))
+            .add("seconds", seconds);
         std::cout << out.str() << '\n';
     } else {
         std::printf("%s: %s\n", path.c_str(), cert.self_delaunay ? "self-Delaunay" : "NOT self-Delaunay");
@@ -122,8 +99,7 @@ int run_check(Args& args) {
         std::printf("  min margin          %.6g rad (%.6g deg)\n", cert.min_delaunay_margin,
                     cert.min_delaunay_margin * 180.0 / std::numbers::pi);
         std::printf("  boundary edges      %d, %d with an obtuse opposite angle (policy %s)\n",
-                    cert.boundary_edges, cert.boundary_obtuse_edges,
-                    options.boundary == BoundaryPolicy::strict ? "strict" : "free");
+                    cert.boundary_edges, cert.boundary_obtuse_edges, to_string(options.boundary).data());
         std::printf("  negative cotan w.   %d\n", cert.negative_cotan_weights);
         std::printf("  negative dual cells %d\n", cert.negative_dual_cells);
         std::printf("  Gabriel violations  %d\n", cert.gabriel_violations);

@@ -61,23 +61,7 @@ int run_convert(Args& args) {
     JsonObject json;
     json.add("input", paths[0])
         .add("output", paths[1])
-        .add("method", to_string(options.method))
-        .add("split_rule", to_string(options.split_rule))
-        .add("max_dihedral_deg", options.max_dihedral_deg)
-        .add("input_vertices", r.input_vertices)
-        .add("output_vertices", r.output_vertices)
-        .add("input_faces", r.input_faces)
-        .add("output_faces", r.output_faces)
-        .add("input_non_delaunay_edges", r.input_non_delaunay_edges)
-        .add("input_nonflat_non_delaunay_edges", r.input_nonflat_non_delaunay_edges)
-        .add("flips", r.flips)
-        .add("splits", r.splits)
-        .add("unflippable_edges", r.unflippable_edges)
-        .add("vertices_inside_faces", r.vertices_inside_faces)
-        .add("status", to_string(r.status))
-        .add("seconds", r.seconds)
-        .add("hausdorff_rel", r.hausdorff_rel)
-        .add("certificate", certificate_json(r.certificate, {.boundary = options.boundary, .tolerance = options.tolerance}));
+        .merge(conversion_json(options, result.report));
     const std::string text = json.str() + "\n";
     if (report_path) write_text_file(*report_path, text);
     std::cout << text;

@@ -71,16 +71,7 @@ int run_eigs(Args& args) {
     if (ec) throw IoError(dir.string() + ": cannot create the output folder: " + ec.message());
     write_text_file(dir / "eigenvalues.csv", eigenvalues_csv(result.values));
     write_text_file(dir / "eigenvectors.bin", eigenvectors_bin(result.vectors));
-    const EigenReport& r = result.report;
-    report.add("k", options.k)
-        .add("converged_pairs", static_cast<long long>(result.values.size()))
-        .add("status", to_string(r.status))
-        .add("iterations", r.iterations)
-        .add("solves", r.solves)
-        .add("sigma", r.sigma)
-        .add("max_residual", r.max_residual)
-        .add("max_orthogonality_error", r.max_orthogonality_error)
-        .add("seconds", r.seconds);
+    report.merge(eigen_json(options.k, result));
     write_report(dir, report);
     return kSuccess;
 }

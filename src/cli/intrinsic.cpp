@@ -37,15 +37,7 @@ int run_intrinsic(Args& args) {
     JsonObject report;
     report.add("file", path);
     write_operators(idt.triangulation, mass, dir, report);
-    const IntrinsicReport& r = idt.report;
-    report.add("tolerance", options.tolerance)
-        .add("flips", r.flips)
-        .add("proper", r.proper)
-        .add("self_edges", r.self_edges)
-        .add("repeated_edges", r.repeated_edges)
-        .add("status", r.status)
-        .add("intrinsic_seconds", r.seconds)
-        .add("flip_seconds", r.flip_seconds)
+    report.merge(intrinsic_json(options, idt.report))
         .add("seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     write_report(dir, report);
     return kSuccess;

@@ -6,15 +6,11 @@
 
 #include "cli/args.hpp"
 #include "cli/json.hpp"
+#include "cli/reports.hpp"
 #include "sdmesh/operators.hpp"
 #include "sdmesh/triangulation.hpp"
 
 namespace sdmesh::cli {
-
-struct MassChoice {
-    const char* name;  ///< as given to --mass and written to report.json
-    MassType type;
-};
 
 /// --mass barycentric|circumcentric|mixed|galerkin, default barycentric.
 /// \throws UsageError another value.

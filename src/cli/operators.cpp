@@ -4,7 +4,6 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <string>
 #include <system_error>
 
@@ -15,26 +14,10 @@
 #include "sdmesh/matrix_market.hpp"
 
 namespace sdmesh::cli {
-namespace {
-
-constexpr MassChoice kMassChoices[] = {
-    {"barycentric", MassType::barycentric},
-    {"circumcentric", MassType::circumcentric},
-    {"mixed", MassType::mixed_voronoi},
-    {"galerkin", MassType::galerkin},
-};
-
-double min_or_infinity(const Eigen::VectorXd& x) {
-    return x.size() > 0 ? x.minCoeff() : std::numeric_limits<double>::infinity();
-}
-
-}  // namespace
-
 MassChoice parse_mass(Args& args) {
     const std::string value = args.option("--mass").value_or("barycentric");
-    for (const MassChoice& m : kMassChoices)
-        if (value == m.name) return m;
-    throw UsageError("--mass must be barycentric, circumcentric, mixed or galerkin, got '" + value + "'");
+    if (const auto mass = find_mass(value)) return *mass;
+    throw UsageError("--mass must be " + mass_names("|") + ", got '" + value + "'");
 }
 
 void write_operators(const Triangulation& t, const MassChoice& mass, const std::filesystem::path& dir,
@@ -53,16 +36,7 @@ void write_operators(const Triangulation& t, const MassChoice& mass, const std::
     write_matrix_market(dir / "star1.mtx", diagonal_matrix(s1));
     write_matrix_market(dir / "star2.mtx", diagonal_matrix(star2(t)));
 
-    report.add("vertices", t.num_vertices)
-        .add("edges", t.num_edges())
-        .add("faces", t.num_faces())
-        .add("mass", mass.name)
-        .add("nnz_L", static_cast<long long>(L.nonZeros()))
-        .add("nnz_M", static_cast<long long>(M.nonZeros()))
-        .add("min_star0", min_or_infinity(s0))
-        .add("min_star1", min_or_infinity(s1))
-        .add("negative_star0", static_cast<long long>((s0.array() < 0).count()))
-        .add("negative_star1", static_cast<long long>((s1.array() < 0).count()));
+    report.merge(operator_summary_json(t, mass.name, L, M, s0, s1));
 }
 
 void write_report(const std::filesystem::path& dir, const JsonObject& report) {

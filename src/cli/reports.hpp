@@ -1,12 +1,64 @@
 #pragma once
-// JSON forms of the library's reports, shared by the commands that print them.
+// JSON forms of the library's reports and the names of option values, shared by the commands
+// that print them and by the Python module (which turns the same JSON into dicts), so that every
+// key and every option name has one source. Built as the internal library sdmesh_reports.
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <Eigen/SparseCore>
 
 #include "cli/json.hpp"
+#include "sdmesh/convert.hpp"
 #include "sdmesh/delaunay.hpp"
+#include "sdmesh/eigen.hpp"
+#include "sdmesh/intrinsic.hpp"
+#include "sdmesh/io.hpp"
+#include "sdmesh/operators.hpp"
+#include "sdmesh/validate.hpp"
 
 namespace sdmesh::cli {
 
+struct MassChoice {
+    const char* name;  ///< as given to --mass and written to report.json
+    MassType type;
+};
+
+/// The mass matrix named `name` (barycentric, circumcentric, mixed, galerkin), if any.
+std::optional<MassChoice> find_mass(std::string_view name);
+
+/// The name of a mass matrix type, as find_mass() takes it.
+std::string_view mass_name(MassType type);
+
+/// The names find_mass() accepts, separated by `separator`.
+std::string mass_names(std::string_view separator);
+
+/// "strict" or "free".
+std::string_view to_string(BoundaryPolicy policy);
+
+/// The validation keys of `sdmesh check --json` (vertices ... non_finite_vertices).
+JsonObject mesh_info_json(const MeshInfo& info);
+
+/// What `sdmesh check --json` adds about the file: file_faces, polygons.
+JsonObject read_report_json(const ReadReport& read);
+
 /// The certificate's counts and verdict (the keys of `sdmesh check --json` that concern it).
 JsonObject certificate_json(const DelaunayCertificate& cert, const CertifyOptions& options);
+
+/// `sdmesh convert`'s report after the file names: options, counts, status, certificate.
+JsonObject conversion_json(const ConvertOptions& options, const ConversionReport& report);
+
+/// The operator summary of `sdmesh operators` / `sdmesh intrinsic`: vertices, edges, faces, mass,
+/// nnz_L, nnz_M, min_star0, min_star1, negative_star0, negative_star1.
+JsonObject operator_summary_json(const Triangulation& t, std::string_view mass_name,
+                                 const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M,
+                                 const Eigen::VectorXd& s0, const Eigen::VectorXd& s1);
+
+/// What `sdmesh intrinsic` adds to the operator summary (flip report, before "seconds").
+JsonObject intrinsic_json(const IntrinsicOptions& options, const IntrinsicReport& report);
+
+/// The solver part of `sdmesh eigs`'s report.json (k, converged_pairs, status, ..., seconds).
+JsonObject eigen_json(int k, const EigenResult& result);
 
 }  // namespace sdmesh::cli

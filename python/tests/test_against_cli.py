@@ -1,0 +1,146 @@
+"""The module gives the CLI's results on the same meshes: operators to 1e-14, eigenvalues to 1e-10,
+reports with the same keys and values (timings aside)."""
+
+import json
+
+import numpy as np
+import pytest
+import scipy.io
+import scipy.sparse
+
+import sdmesh
+from conftest import cli_json, grid, without_timings
+from test_arrays_and_errors import read_binary_ply_fields
+
+MASSES = ["barycentric", "circumcentric", "mixed", "galerkin"]
+OPERATOR_NAMES = ["L", "M", "d0", "d1", "star0", "star1", "star2"]
+
+
+def assert_same_matrix(ours, mtx_path):
+    theirs = scipy.sparse.csc_matrix(scipy.io.mmread(mtx_path))
+    assert ours.shape == theirs.shape
+    assert ours.nnz == theirs.nnz  # the same stored entries, explicit zeros included
+    scale = max(1.0, abs(theirs).max())
+    assert abs(ours - theirs).max() <= 1e-14 * scale, mtx_path.name
+
+
+@pytest.fixture(scope="module")
+def converted_bunny(tmp_path_factory, cli, bunny_path):
+    path = tmp_path_factory.mktemp("converted") / "bunny_sd.obj"
+    cli("convert", bunny_path, path)
+    return path
+
+
+@pytest.mark.parametrize("mass", MASSES)
+def test_operators_equal_the_cli_files(cli, tmp_path, bunny_path, bunny, mass):
+    cli("operators", bunny_path, "--out", tmp_path, "--mass", mass)
+    ops = sdmesh.operators(*bunny, mass=mass)
+    assert list(ops) == OPERATOR_NAMES
+    for name in OPERATOR_NAMES:
+        assert isinstance(ops[name], scipy.sparse.csc_matrix)
+        assert_same_matrix(ops[name], tmp_path / f"{name}.mtx")
+
+
+def test_operators_satisfy_the_dec_identities(bunny):
+    ops = sdmesh.operators(*bunny)
+    L, d0, d1, star1 = ops["L"], ops["d0"], ops["d1"], ops["star1"]
+    assert (d1 @ d0).count_nonzero() == 0
+    assert abs(L - L.T).max() == 0
+    assert abs(L @ np.ones(L.shape[0])).max() <= 1e-12 * abs(L).max()
+    assert abs(L - d0.T @ star1 @ d0).max() <= 1e-12 * abs(L).max()
+
+
+def test_intrinsic_operators_and_report_equal_the_cli(cli, tmp_path, bunny_path, bunny):
+    cli("intrinsic", bunny_path, "--out", tmp_path, "--mass", "circumcentric")
+    ops, report = sdmesh.intrinsic_operators(*bunny, mass="circumcentric")
+    for name in OPERATOR_NAMES:
+        assert_same_matrix(ops[name], tmp_path / f"{name}.mtx")
+    expected = json.loads((tmp_path / "report.json").read_text())
+    del expected["file"]
+    assert list(report) == list(expected)
+    assert without_timings(report) == without_timings(expected)
+    assert report["proper"] and report["status"] == "delaunay" and report["flips"] > 0
+
+
+@pytest.mark.parametrize("boundary", ["strict", "free"])
+def test_check_equals_the_cli_json(cli, tmp_path, bunny_path, bunny, boundary):
+    V, F = grid(7, 4)
+    V[:, 0] += 0.8 * V[:, 1] ** 2  # sheared: obtuse boundary angles, non-Delaunay interior edges
+    sdmesh.write_mesh(tmp_path / "grid.obj", V, F)
+    for path, mesh in ((bunny_path, bunny), (tmp_path / "grid.obj", (V, F))):
+        done = cli("check", path, "--json", "--boundary", boundary, expect=(0, 1))
+        expected = cli_json(done)
+        for key in ("file", "file_faces", "polygons"):
+            del expected[key]
+        report = sdmesh.check(*mesh, boundary=boundary)
+        assert list(report) == list(expected)
+        assert without_timings(report) == without_timings(expected)
+
+
+def test_convert_equals_the_cli(cli, tmp_path, bunny_path, bunny, converted_bunny):
+    done = cli("convert", bunny_path, tmp_path / "out.obj", "--method", "hybrid", "--max-dihedral", "5")
+    expected = cli_json(done)
+    del expected["input"], expected["output"]
+    V, F, report = sdmesh.convert(*bunny, method="hybrid", max_dihedral_deg=5)
+    assert list(report) == list(expected)
+    assert without_timings(report) == without_timings(expected)
+    V_cli, F_cli = sdmesh.read_mesh(tmp_path / "out.obj")
+    np.testing.assert_array_equal(V, V_cli)
+    np.testing.assert_array_equal(F, F_cli)
+    assert sdmesh.check(V, F)["self_delaunay"]
+
+
+def read_eigs(directory):
+    values = np.loadtxt(directory / "eigenvalues.csv")
+    raw = (directory / "eigenvectors.bin").read_bytes()
+    n, k = np.frombuffer(raw, dtype="<i4", count=2)
+    vectors = np.frombuffer(raw, dtype="<f8", offset=8).reshape(k, n).T
+    return values, vectors, json.loads((directory / "report.json").read_text())
+
+
+@pytest.mark.parametrize("options", [("--mass", "circumcentric"), ("--intrinsic",)])
+def test_eigs_equal_the_cli(cli, tmp_path, converted_bunny, options):
+    cli("eigs", converted_bunny, "-k", 12, "--out", tmp_path, *options)
+    values, vectors, expected = read_eigs(tmp_path)
+    V, F = sdmesh.read_mesh(converted_bunny)
+    keywords = {"mass": options[1]} if options[0] == "--mass" else {"intrinsic": True}
+    evals, evecs, report = sdmesh.eigs(V, F, 12, return_report=True, **keywords)
+    assert np.abs(evals - values).max() <= 1e-10 * max(1.0, np.abs(values).max())
+    assert np.abs(evecs - vectors).max() <= 1e-8
+    assert set(report) <= set(expected)
+    assert without_timings(report) == without_timings({key: expected[key] for key in report})
+    if "mass" in keywords:  # the same problem given as matrices
+        ops = sdmesh.operators(V, F, mass=keywords["mass"])
+        np.testing.assert_array_equal(sdmesh.eigs(ops["L"], ops["M"], k=12)[0], evals)
+
+
+def test_geodesic_equals_the_cli(cli, tmp_path, converted_bunny):
+    done = cli("geodesic", converted_bunny, "--source", "0,17", "--out", tmp_path / "d.ply", "--mass", "mixed")
+    expected = read_binary_ply_fields(tmp_path / "d.ply", ["distance"])["distance"]
+    distance = sdmesh.geodesic(*sdmesh.read_mesh(converted_bunny), [0, 17], mass="mixed")
+    assert np.abs(distance - expected).max() <= 1e-12 * expected.max()
+    assert distance.max() == pytest.approx(cli_json(done)["max_distance"], rel=1e-15)
+
+
+def test_poisson_equals_the_cli(cli, tmp_path, converted_bunny):
+    V, F = sdmesh.read_mesh(converted_bunny)
+    f = np.sin(3 * V[:, 0]) + V[:, 1]
+    np.savetxt(tmp_path / "f.txt", f, fmt="%.17g")
+    (tmp_path / "dirichlet.txt").write_text("0 1.5\n10 -2\n")
+    cli("poisson", converted_bunny, "--f", tmp_path / "f.txt", "--dirichlet", tmp_path / "dirichlet.txt",
+        "--out", tmp_path / "u.ply")
+    expected = read_binary_ply_fields(tmp_path / "u.ply", ["u"])["u"]
+    u = sdmesh.poisson(V, F, f, dirichlet_vertices=[0, 10], dirichlet_values=[1.5, -2])
+    assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
+    assert u[0] == 1.5 and u[10] == -2
+
+
+def test_heat_equals_the_cli(cli, tmp_path, converted_bunny):
+    V, F = sdmesh.read_mesh(converted_bunny)
+    u0 = np.exp(-((V - V[5]) ** 2).sum(axis=1))  # no subnormal values: the CLI's reader refuses them
+    np.savetxt(tmp_path / "u0.txt", u0, fmt="%.17g")
+    cli("heat", converted_bunny, "--u0", tmp_path / "u0.txt", "--time", "1e-3", "--steps", 3,
+        "--mass", "galerkin", "--out", tmp_path / "u.ply")
+    expected = read_binary_ply_fields(tmp_path / "u.ply", ["u"])["u"]
+    u = sdmesh.heat(V, F, u0, 1e-3, steps=3, mass="galerkin")
+    assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
