@@ -78,5 +78,5 @@ int accuracy(const study::Args& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return study::run_study("accuracy", accuracy, study::parse_args(argc, argv, "accuracy"));
+    return study::run_study(argc, argv, "accuracy", accuracy);
 }

@@ -104,5 +104,5 @@ int geodesics(const study::Args& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return study::run_study("geodesics", geodesics, study::parse_args(argc, argv, "geodesics"));
+    return study::run_study(argc, argv, "geodesics", geodesics);
 }

@@ -113,5 +113,5 @@ int negative_dual(const study::Args& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return study::run_study("negative_dual", negative_dual, study::parse_args(argc, argv, "negative_dual"));
+    return study::run_study(argc, argv, "negative_dual", negative_dual);
 }

@@ -80,5 +80,5 @@ int robustness(const study::Args& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return study::run_study("robustness", robustness, study::parse_args(argc, argv, "robustness"));
+    return study::run_study(argc, argv, "robustness", robustness);
 }

@@ -26,6 +26,8 @@ namespace fs = std::filesystem;
 
 namespace study {
 
+namespace {
+
 Args parse_args(int argc, char** argv, std::string_view program) {
     const auto usage_error = [&](const std::string& message) {
         std::cerr << program << ": " << message << "\nusage: " << program
@@ -50,12 +52,15 @@ Args parse_args(int argc, char** argv, std::string_view program) {
         }
     }
     if (args.out.empty()) usage_error("--out DIR is required");
-    fs::create_directories(args.out);
     return args;
 }
 
-int run_study(std::string_view program, int (*body)(const Args&), const Args& args) {
+}  // namespace
+
+int run_study(int argc, char** argv, std::string_view program, int (*body)(const Args&)) {
+    const Args args = parse_args(argc, argv, program);
     try {
+        fs::create_directories(args.out);
         return body(args);
     } catch (const std::exception& error) {
         std::cerr << program << ": " << error.what() << '\n';

@@ -26,11 +26,9 @@ struct Args {
     bool quick = false;  ///< tiny sizes, meshes made in code only: for ctest
 };
 
-/// Parses the command line; prints the usage and exits with status 2 on a bad one. Creates `out`.
-Args parse_args(int argc, char** argv, std::string_view program);
-
-/// Runs a study's body; an exception is printed as one line and gives exit status 1.
-int run_study(std::string_view program, int (*body)(const Args&), const Args& args);
+/// A study's main(): parses the command line (usage and exit status 2 on a bad one), creates
+/// args.out and runs `body`; an exception is printed as one line and gives exit status 1.
+int run_study(int argc, char** argv, std::string_view program, int (*body)(const Args&));
 
 /// A CSV table built in memory and written atomically. Doubles are written with 17 digits.
 class Csv {

@@ -116,5 +116,5 @@ int wardetzky(const study::Args& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return study::run_study("wardetzky", wardetzky, study::parse_args(argc, argv, "wardetzky"));
+    return study::run_study(argc, argv, "wardetzky", wardetzky);
 }
