@@ -38,6 +38,7 @@ int run_info(Args& args);
 int run_check(Args& args);
 int run_repair(Args& args);
 int run_convert(Args& args);
+int run_decimate(Args& args);
 int run_operators(Args& args);
 int run_intrinsic(Args& args);
 int run_eigs(Args& args);

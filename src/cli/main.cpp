@@ -24,6 +24,12 @@ Commands:
           [--max-dihedral DEG] [--boundary strict|free] [--max-vertices N]
           [--repair] [--report FILE.json] [--progress]
                                   self-Delaunay conversion; exit 0 if certified, 1 if not
+  decimate IN OUT (--target-vertices N | --target-ratio R) [--max-error REL]
+          [--boundary strict|free] [--convert-first] [--levels R1,R2,...]
+          [--report FILE.json] [--progress]
+                                  Delaunay-preserving edge collapses of a self-Delaunay mesh;
+                                  --levels also writes OUT_levelK for each ratio; exit 0 if
+                                  the output is self-Delaunay (status reached_target or stalled)
   repair IN OUT [--keep-...]      merge coincident vertices, drop repeated-index and duplicate
                                   faces, orient consistently, drop unreferenced vertices
   operators MESH --out DIR [--mass barycentric|circumcentric|mixed|galerkin]
@@ -60,6 +66,7 @@ constexpr Command kCommands[] = {
     {"check", run_check},
     {"repair", run_repair},
     {"convert", run_convert},
+    {"decimate", run_decimate},
     {"operators", run_operators},
     {"intrinsic", run_intrinsic},
     {"eigs", run_eigs},

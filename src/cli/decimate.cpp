@@ -1,0 +1,140 @@
+// `sdmesh decimate IN OUT`: a coarser self-Delaunay mesh (or a hierarchy of them) by edge collapses.
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "cli/json.hpp"
+#include "cli/reports.hpp"
+#include "sdmesh/convert.hpp"
+#include "sdmesh/decimate.hpp"
+#include "sdmesh/io.hpp"
+
+namespace sdmesh::cli {
+namespace {
+
+constexpr const char* kDecimateUsage =
+    "sdmesh decimate IN OUT (--target-vertices N | --target-ratio R) [--max-error REL] [--boundary strict|free] "
+    "[--convert-first] [--levels R1,R2,...] [--tolerance RAD] [--report FILE.json] [--progress]";
+
+// "0.5,0.2" -> {0.5, 0.2}.
+std::vector<double> parse_ratios(const std::string& text) {
+    std::vector<double> ratios;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) {
+        size_t end = 0;
+        double value = 0;
+        try {
+            value = std::stod(item, &end);
+        } catch (const std::exception&) {
+            end = 0;
+        }
+        if (end == 0 || end != item.size() || !(value > 0 && value < 1))
+            throw UsageError("sdmesh decimate: --levels expects ratios in (0, 1) separated by commas, got '" + text + "'");
+        ratios.push_back(value);
+    }
+    return ratios;
+}
+
+// out/name.obj.gz, level 2 -> out/name_level2.obj.gz (the extension starts at the name's first dot).
+std::filesystem::path level_path(const std::filesystem::path& out, size_t level) {
+    const std::string name = out.filename().string();
+    const size_t dot = name.find('.');
+    const std::string stem = name.substr(0, dot), extension = dot == std::string::npos ? "" : name.substr(dot);
+    return out.parent_path() / (stem + "_level" + std::to_string(level) + extension);
+}
+
+JsonObject rejections_json(const DecimateRejections& r) {
+    JsonObject json;
+    json.add("topology", r.topology)
+        .add("not_delaunay", r.not_delaunay)
+        .add("normal_flip", r.normal_flip)
+        .add("max_error", r.max_error);
+    return json;
+}
+
+}  // namespace
+
+int run_decimate(Args& args) {
+    DecimateOptions options;
+    const std::optional<double> target_vertices = args.number("--target-vertices");
+    const std::optional<double> target_ratio = args.number("--target-ratio");
+    if (target_vertices.has_value() == target_ratio.has_value())
+        args.missing("exactly one of --target-vertices N and --target-ratio R is", kDecimateUsage);
+    if (target_vertices && !(*target_vertices >= 1 && *target_vertices == std::floor(*target_vertices)))
+        throw UsageError("sdmesh decimate: --target-vertices expects a positive whole number");
+    options.target_vertices = target_vertices ? static_cast<long long>(*target_vertices) : 0;
+    options.target_ratio = target_ratio.value_or(options.target_ratio);
+    options.max_error = args.number("--max-error").value_or(options.max_error);
+    options.tolerance = args.number("--tolerance").value_or(options.tolerance);
+    if (const auto boundary = args.option("--boundary")) {
+        if (*boundary != "strict" && *boundary != "free")
+            throw UsageError("sdmesh decimate: --boundary must be strict|free, got '" + *boundary + "'");
+        options.boundary = *boundary == "strict" ? BoundaryPolicy::strict : BoundaryPolicy::free;
+    }
+    const bool convert_first = args.flag("--convert-first");
+    const std::optional<std::string> levels_text = args.option("--levels");
+    options.progress = args.flag("--progress");
+    const std::optional<std::string> report_path = args.option("--report");
+    const auto paths = args.positionals(2, kDecimateUsage);
+
+    TriangleMesh mesh = read_mesh(paths[0]);
+    std::optional<ConversionReport> conversion;
+    if (convert_first) {
+        ConversionResult converted = about_file(paths[0], [&] {
+            return convert(mesh, {.boundary = options.boundary, .tolerance = options.tolerance, .progress = options.progress});
+        });
+        mesh = std::move(converted.mesh);
+        conversion = converted.report;
+    }
+    // Level ratios are of the mesh being decimated, as the target ratio is.
+    if (levels_text)
+        for (double ratio : parse_ratios(*levels_text))
+            options.levels.push_back(std::llround(ratio * mesh.num_vertices()));
+    const DecimateResult result = about_file(paths[0], [&] { return decimate(mesh, options); });
+    write_mesh(paths[1], result.mesh);
+    std::vector<std::string> level_files;
+    for (size_t i = 0; i < result.levels.size(); ++i) {
+        level_files.push_back(level_path(paths[1], i + 1).string());
+        write_mesh(level_files.back(), result.levels[i]);
+    }
+
+    const DecimateReport& r = result.report;
+    JsonObject levels_json;
+    for (size_t i = 0; i < result.levels.size(); ++i) levels_json.add(level_files[i], result.levels[i].num_vertices());
+    JsonObject json;
+    json.add("input", paths[0]).add("output", paths[1]);
+    if (conversion)
+        json.add("conversion_splits", conversion->splits).add("converted_vertices", conversion->output_vertices);
+    json.add("input_vertices", r.input_vertices)
+        .add("input_faces", r.input_faces)
+        .add("target_vertices", r.target_vertices)
+        .add("output_vertices", r.output_vertices)
+        .add("output_faces", r.output_faces)
+        .add("collapses", r.collapses)
+        .add("rejected", rejections_json(r.rejected))
+        .add("max_error", options.max_error)
+        .add("levels", levels_json)
+        .add("status", to_string(r.status))
+        .add("seconds", r.seconds)
+        .add("hausdorff_rel", r.hausdorff_rel)
+        .add("certificate", certificate_json(r.certificate, {.boundary = options.boundary, .tolerance = options.tolerance}));
+    const std::string text = json.str() + "\n";
+    if (report_path) write_text_file(*report_path, text);
+    std::cout << text;
+    if (r.status == DecimateStatus::stalled)
+        std::cerr << "sdmesh decimate: " << paths[1] << ": stalled at " << r.output_vertices << " vertices (target "
+                  << r.target_vertices << ")\n";
+    if (!r.certificate.self_delaunay) {
+        std::cerr << "sdmesh decimate: " << paths[1] << ": the output is not self-Delaunay\n";
+        return kNotSelfDelaunay;
+    }
+    return kSuccess;
+}
+
+}  // namespace sdmesh::cli
