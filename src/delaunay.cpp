@@ -104,9 +104,7 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     // Per edge: margin, dual-area term l²(cot α + cot β)/8, Gabriel test. Each edge is written by
     // one thread; counts are integer sums, so the result does not depend on the thread count.
     DelaunayCertificate cert;
-    cert.edge_margin.resize(num_edges);
-    detail::prefault(cert.edge_margin);
-    cert.edge_margin.setConstant(std::numeric_limits<double>::quiet_NaN());
+    cert.edge_margin = detail::prefaulted_constant<Eigen::VectorXd>(num_edges, 1, std::numeric_limits<double>::quiet_NaN());
     Eigen::VectorXd dual_term(num_edges);
     detail::prefault(dual_term);
     const double shrink = 1.0 - 2.0 * tol;  // "strictly inside", beyond the tolerance
@@ -160,8 +158,8 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
 
     // Serial passes: the smallest interior margin (first edge on ties) and the dual areas, summed
     // in edge order so that they are bit-identical for any thread count.
-    cert.dual_area.setZero(num_vertices);
-    Eigen::VectorXd dual_magnitude = Eigen::VectorXd::Zero(num_vertices);
+    cert.dual_area = detail::prefaulted_constant<Eigen::VectorXd>(num_vertices, 1, 0.0);
+    auto dual_magnitude = detail::prefaulted_constant<Eigen::VectorXd>(num_vertices, 1, 0.0);
     for (int e = 0; e < num_edges; ++e) {
         if (edges.face_count[e] == 2 && cert.edge_margin[e] < cert.min_delaunay_margin) {
             cert.min_delaunay_margin = cert.edge_margin[e];

@@ -10,6 +10,7 @@
 
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
+#include "prefault.hpp"
 
 // Determinism: parallel loops compute one value per face, edge or column, each from data fixed by
 // the triangulation; sums over several elements run serially in face or edge order, or within
@@ -39,7 +40,7 @@ double cotangent(const Triangulation& t, int f, int k, double area) {
 // Per vertex: Σ value(f, k) over the corners k of faces f at the vertex, in face order.
 template <class CornerValue>
 Eigen::VectorXd sum_at_corners(const Triangulation& t, CornerValue value) {
-    Eigen::VectorXd sum = Eigen::VectorXd::Zero(t.num_vertices);
+    auto sum = detail::prefaulted_constant<Eigen::VectorXd>(t.num_vertices, 1, 0.0);
     for (int f = 0; f < t.num_faces(); ++f)
         for (int k = 0; k < 3; ++k) sum[t.F(f, k)] += value(f, k);
     return sum;
@@ -63,6 +64,8 @@ Eigen::SparseMatrix<double> vertex_matrix(const Triangulation& t, EdgeValue offd
     m.resizeNonZeros(outer[nv]);
     int* inner = m.innerIndexPtr();
     double* value = m.valuePtr();
+    detail::prefault(inner, sizeof(int) * static_cast<size_t>(outer[nv]));
+    detail::prefault(value, sizeof(double) * static_cast<size_t>(outer[nv]));
     // Diagonal first, then the edges in edge order.
     const std::unique_ptr<int[]> cursor(new int[nv]);
     for (int v = 0; v < nv; ++v) {
@@ -158,6 +161,7 @@ Eigen::VectorXd face_areas(const Triangulation& t) {
     require_sizes(t);
     const int nf = t.num_faces();
     Eigen::VectorXd area(nf);
+    detail::prefault(area);
 #pragma omp parallel for schedule(static) if (nf >= kMinParallel)
     for (int f = 0; f < nf; ++f) area[f] = triangle_area(t.side(f, 0), t.side(f, 1), t.side(f, 2));
     return area;
@@ -166,7 +170,7 @@ Eigen::VectorXd face_areas(const Triangulation& t) {
 Eigen::VectorXd star0(const Triangulation& t) {
     // Edge by edge (not corner by corner), so that non-negative weights give a non-negative sum.
     const Eigen::VectorXd w = star1(t);
-    Eigen::VectorXd area = Eigen::VectorXd::Zero(t.num_vertices);
+    auto area = detail::prefaulted_constant<Eigen::VectorXd>(t.num_vertices, 1, 0.0);
     for (int e = 0; e < t.num_edges(); ++e) {
         const double term = t.length[e] * t.length[e] * w[e] / 4;
         area[t.E(e, 0)] += term;
@@ -180,12 +184,14 @@ Eigen::VectorXd star1(const Triangulation& t) {
     // Cotangents face by face (each face's lengths read once), then paired up edge by edge.
     const int nf = t.num_faces(), ne = t.num_edges();
     const std::unique_ptr<double[]> cot(new double[3 * static_cast<size_t>(nf)]);
+    detail::prefault(cot.get(), sizeof(double) * 3 * static_cast<size_t>(nf));
 #pragma omp parallel for schedule(static) if (nf >= kMinParallel)
     for (int f = 0; f < nf; ++f) {
         const double area = triangle_area(t.side(f, 0), t.side(f, 1), t.side(f, 2));
         for (int k = 0; k < 3; ++k) cot[3 * f + k] = cotangent(t, f, k, area);
     }
     Eigen::VectorXd w(ne);
+    detail::prefault(w);
 #pragma omp parallel for schedule(static) if (ne >= kMinParallel)
     for (int e = 0; e < ne; ++e) {
         const int h1 = t.edge_halfedges(e, 1);
@@ -217,6 +223,8 @@ Eigen::SparseMatrix<double> diagonal_matrix(const Eigen::VectorXd& diagonal) {
     const int n = static_cast<int>(diagonal.size());
     Eigen::SparseMatrix<double> m(n, n);
     m.resizeNonZeros(n);
+    detail::prefault(m.innerIndexPtr(), sizeof(int) * static_cast<size_t>(n));
+    detail::prefault(m.valuePtr(), sizeof(double) * static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) {
         m.outerIndexPtr()[i + 1] = i + 1;
         m.innerIndexPtr()[i] = i;

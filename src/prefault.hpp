@@ -5,6 +5,9 @@
 // (MADV_POPULATE_WRITE, Linux >= 5.14). Small blocks, other systems and older kernels: no-op.
 
 #include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
 
 namespace sdmesh::detail {
 
@@ -14,6 +17,23 @@ void prefault(void* data, std::size_t bytes);
 template <class Container>
 void prefault(Container& c) {
     prefault(static_cast<void*>(c.data()), static_cast<std::size_t>(c.size()) * sizeof(*c.data()));
+}
+
+/// Resizes an empty std::vector to n copies of `value`, its pages mapped first.
+template <class T>
+void prefaulted_assign(std::vector<T>& v, std::size_t n, const T& value) {
+    v.reserve(n);
+    prefault(static_cast<void*>(v.data()), n * sizeof(T));
+    v.assign(n, value);
+}
+
+/// A dense matrix of the given size, its pages mapped, every entry set to `value`.
+template <class Matrix>
+Matrix prefaulted_constant(Eigen::Index rows, Eigen::Index cols, typename Matrix::Scalar value) {
+    Matrix m(rows, cols);
+    prefault(m);
+    m.setConstant(value);
+    return m;
 }
 
 }  // namespace sdmesh::detail

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <numeric>
 
+#include "prefault.hpp"
+
 
 namespace sdmesh {
 namespace {
@@ -84,7 +86,8 @@ EdgeTable build_edge_table(const Eigen::MatrixX3i& F, int num_vertices) {
         for (int f = 0; f < num_faces; ++f)
             if (valid_face[f]) ++bucket_start[std::min(F(f, (k + 1) % 3), F(f, (k + 2) % 3)) + 1];
     std::partial_sum(bucket_start.begin(), bucket_start.end(), bucket_start.begin());
-    std::vector<std::uint64_t> keys(static_cast<size_t>(bucket_start.back()));
+    std::vector<std::uint64_t> keys;
+    detail::prefaulted_assign(keys, static_cast<size_t>(bucket_start.back()), std::uint64_t{0});
     {
         std::vector<int> fill(bucket_start.begin(), bucket_start.end() - 1);
         for (int k = 0; k < 3; ++k)
@@ -112,10 +115,11 @@ EdgeTable build_edge_table(const Eigen::MatrixX3i& F, int num_vertices) {
     const int num_edges = edge_start.back();
 
     EdgeTable table;
-    table.face_edge.setConstant(num_faces, 3, -1);
+    table.face_edge = detail::prefaulted_constant<Eigen::MatrixX3i>(num_faces, 3, -1);
     table.E.resize(num_edges, 2);
-    table.edge_halfedges.setConstant(num_edges, 2, -1);
-    table.face_count.assign(static_cast<std::size_t>(num_edges), 0);
+    detail::prefault(table.E);
+    table.edge_halfedges = detail::prefaulted_constant<Eigen::MatrixX2i>(num_edges, 2, -1);
+    detail::prefaulted_assign(table.face_count, static_cast<std::size_t>(num_edges), 0);
 #pragma omp parallel for schedule(dynamic, 1024)
     for (int v = 0; v < num_vertices; ++v) {
         const std::size_t begin = bucket_start[v], end = bucket_start[v + 1];

@@ -6,6 +6,7 @@
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
 #include "sdmesh/topology.hpp"
+#include "prefault.hpp"
 
 namespace sdmesh {
 namespace {
@@ -33,6 +34,7 @@ Triangulation connectivity(const Eigen::MatrixX3i& F, int num_vertices) {
     t.face_edge = std::move(table.face_edge);
     t.edge_halfedges = std::move(table.edge_halfedges);
     t.face_edge_sign.resize(num_faces, 3);
+    detail::prefault(t.face_edge_sign);
     for (int f = 0; f < num_faces; ++f)
         for (int k = 0; k < 3; ++k)
             t.face_edge_sign(f, k) = F(f, (k + 1) % 3) == t.E(t.face_edge(f, k), 0) ? 1 : -1;
@@ -60,6 +62,7 @@ Triangulation Triangulation::from_mesh(const TriangleMesh& mesh) {
     require_finite_positions(mesh);
     Triangulation t = connectivity(mesh.F, mesh.num_vertices());
     t.length.resize(t.num_edges());
+    detail::prefault(t.length);
     for (int e = 0; e < t.num_edges(); ++e)
         t.length[e] = distance(mesh.V.row(t.E(e, 0)).transpose(), mesh.V.row(t.E(e, 1)).transpose());
     check_geometry(t);
