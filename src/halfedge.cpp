@@ -4,6 +4,8 @@
 #include <array>
 #include <utility>
 
+#include "prefault.hpp"
+
 namespace sdmesh {
 
 HalfedgeMesh::HalfedgeMesh(const Triangulation& t)
@@ -11,11 +13,12 @@ HalfedgeMesh::HalfedgeMesh(const Triangulation& t)
 
 HalfedgeMesh::HalfedgeMesh(const Eigen::MatrixX3i& F, const Eigen::MatrixX3i& face_edge,
                            const Eigen::MatrixX2i& edge_halfedges, int num_vertices)
-    : num_vertices_(num_vertices),
-      corner_(3 * static_cast<size_t>(F.rows())),
-      twin_(corner_.size(), -1),
-      edge_(corner_.size()),
-      edge_halfedge_(static_cast<size_t>(edge_halfedges.rows())) {
+    : num_vertices_(num_vertices) {
+    const auto num_halfedges = 3 * static_cast<size_t>(F.rows());
+    detail::prefaulted_assign(corner_, num_halfedges, 0);
+    detail::prefaulted_assign(twin_, num_halfedges, -1);
+    detail::prefaulted_assign(edge_, num_halfedges, 0);
+    detail::prefaulted_assign(edge_halfedge_, static_cast<size_t>(edge_halfedges.rows()), 0);
     for (int f = 0; f < F.rows(); ++f)
         for (int k = 0; k < 3; ++k) {
             corner_[3 * f + k] = F(f, k);

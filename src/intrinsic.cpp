@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "halfedge.hpp"
+#include "prefault.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
 
@@ -104,11 +105,16 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
     // <= π/2 an edge is LD, and it can only lose that when a flip changes its hinge, which
     // pushes it. They are stacked so that they pop in id order; after a flip the four outer
     // edges of its hinge are pushed and so tested next, while they are still in cache.
-    std::vector<char> queued(ne, 0);
-    for (int f = 0; f < t.num_faces(); ++f)
+    std::vector<char> queued;
+    detail::prefaulted_assign(queued, static_cast<size_t>(ne), char{0});
+    constexpr int kAhead = 16;  // the side lengths are random reads: request them ahead
+    for (int f = 0; f < t.num_faces(); ++f) {
+        if (f + kAhead < t.num_faces())
+            for (int k = 0; k < 3; ++k) __builtin_prefetch(&t.length[t.face_edge(f + kAhead, k)]);
         for (int k = 0; k < 3; ++k)
             if (cosine_numerator(t.side(f, k), t.side(f, (k + 1) % 3), t.side(f, (k + 2) % 3)) < 0)
                 queued[t.face_edge(f, k)] = 1;
+    }
     std::vector<int> stack;
     for (int e = ne - 1; e >= 0; --e)
         if (queued[e]) stack.push_back(e);
