@@ -409,10 +409,15 @@ private:
             }
         }
         if (!options_.search_candidates) return out;
+        // All candidates by quadric cost (the region's point first on ties): the linearised
+        // region is conservative, and an end of the edge outside it may pass the exact test at a
+        // lower cost — removing a split vertex exactly, for one.
+        extra.insert(extra.begin(), out.begin(), out.end());
         extra.insert(extra.end(), {mid, P_[p], P_[q]});
         std::vector<std::pair<double, int>> order;
         for (int i = 0; i < static_cast<int>(extra.size()); ++i) order.emplace_back(quadric(extra[i]), i);
         std::sort(order.begin(), order.end());
+        out.clear();
         for (const auto& [cost, i] : order)
             if (std::find(out.begin(), out.end(), extra[i]) == out.end()) out.push_back(extra[i]);
         return out;
@@ -474,7 +479,9 @@ private:
         const Quadric quadric = quadric_[p] + quadric_[q];
         const std::vector<Vec3> options = placements(p, q, quadric);
         if (options.empty()) return Verdict::not_delaunay;
-        std::optional<Verdict> first;
+        // The reason reported: the bound, if it alone refused some candidate (the collapse was
+        // allowable otherwise), else the first candidate's.
+        std::optional<Verdict> reason;
         for (const Vec3& candidate : options) {
             const Verdict v = check(p, q, candidate);
             if (v == Verdict::accepted) {
@@ -482,9 +489,9 @@ private:
                 cost = quadric(candidate);
                 return v;
             }
-            if (!first) first = v;
+            if (!reason || v == Verdict::max_error) reason = v;
         }
-        return *first;
+        return *reason;
     }
 
     static void count_rejection(Verdict v, DecimateRejections& r) {

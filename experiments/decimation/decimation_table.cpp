@@ -5,7 +5,7 @@
 // sampled Hausdorff relative to its bounding-box diagonal); the reference's certificate counts
 // the edges that are not locally Delaunay, the problem sdmesh::decimate avoids. A third run
 // without the fallback candidates (search_candidates = false) measures whether they reach further.
-//   decimation_table --out DIR [--corpus DIR] [--quick]
+//   decimation_table --out DIR [--corpus DIR] [--quick] [--mesh NAME]
 // Writes DIR/decimation.csv and DIR/decimation.md. OpenMesh is used here only, as the reference.
 // Exit status: 0 done, 1 a mesh failed, 2 bad usage.
 
@@ -34,7 +34,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kUsage = "usage: decimation_table --out DIR [--corpus DIR] [--quick]";
+constexpr const char* kUsage = "usage: decimation_table --out DIR [--corpus DIR] [--quick] [--mesh NAME]";
 
 // The manifold meshes of the corpus (the two non-manifold ones and the LARGE derived ones are
 // left out); --quick keeps the first two.
@@ -169,12 +169,15 @@ void write_markdown(const fs::path& file, const std::vector<Row>& rows) {
 int main(int argc, char** argv) {
     fs::path out, corpus = SDMESH_CORPUS_DIR;
     bool quick = false;
+    std::string only;  // --mesh NAME: that corpus mesh alone
     for (int i = 1; i < argc; ++i) {
         const std::string_view arg = argv[i];
         if ((arg == "--out" || arg == "--corpus") && i + 1 < argc) {
             (arg == "--out" ? out : corpus) = argv[++i];
         } else if (arg == "--quick") {
             quick = true;
+        } else if (arg == "--mesh" && i + 1 < argc) {
+            only = argv[++i];
         } else {
             std::cerr << "decimation_table: unexpected argument '" << arg << "'\n" << kUsage << "\n";
             return 2;
@@ -188,6 +191,7 @@ int main(int argc, char** argv) {
     std::vector<Row> rows;
     int failed = 0;
     for (size_t i = 0; i < (quick ? 2 : kMeshes.size()); ++i) {
+        if (!only.empty() && kMeshes[i] != only) continue;
         try {
             const std::vector<Row> mesh_rows = measure(corpus / kMeshes[i]);
             rows.insert(rows.end(), mesh_rows.begin(), mesh_rows.end());
