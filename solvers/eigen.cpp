@@ -48,6 +48,18 @@ private:
     CholeskySolver solver_;
 };
 
+// Xᵀ A Y for a symmetric sparse A, symmetrised, computed over blocks of columns of Y.
+Eigen::MatrixXd projected(const Eigen::MatrixXd& X, const Sparse& A, const Eigen::MatrixXd& Y) {
+    constexpr Eigen::Index kBlock = 8;
+    Eigen::MatrixXd P(X.cols(), Y.cols());
+    for (Eigen::Index j = 0; j < Y.cols(); j += kBlock) {
+        const Eigen::Index width = std::min(kBlock, Y.cols() - j);
+        const Eigen::MatrixXd AY = A * Y.middleCols(j, width);
+        P.middleCols(j, width).noalias() = X.transpose() * AY;
+    }
+    return 0.5 * (P + P.transpose());
+}
+
 void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& options) {
     detail::check_square_pair(L, M, "eigenpairs");
     if (!(options.tolerance > 0))
@@ -106,29 +118,25 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
 
     // Rayleigh–Ritz on the span of the Ritz vectors (a k x k dense generalized problem): Lanczos
     // vectors drift from M-orthogonality within clusters of equal eigenvalues, this restores it
-    // to rounding and gives each pair its Rayleigh quotient.
+    // to rounding and gives each pair its Rayleigh quotient. Products with L and M run over a few
+    // columns at a time, so no further n x k matrix is made (their first touch is slow).
     const Eigen::MatrixXd Y = lanczos.eigenvectors();
-    const Eigen::MatrixXd LY = L * Y, MY = M * Y;
-    Eigen::MatrixXd A = Y.transpose() * LY, B = Y.transpose() * MY;
-    A = 0.5 * (A + A.transpose()).eval();
-    B = 0.5 * (B + B.transpose()).eval();
+    const Eigen::MatrixXd A = projected(Y, L, Y), B = projected(Y, M, Y);
     const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> small(A, B);
     if (small.info() != Eigen::Success)
         throw NumericalError("eigenpairs: the Rayleigh-Ritz step failed (M not positive definite?)");
 
     EigenResult result;
     result.values = small.eigenvalues();
-    const Eigen::MatrixXd Z = small.eigenvectors();
-    const Eigen::MatrixXd phi = Y * Z, L_phi = LY * Z, M_phi = MY * Z;
+    const Eigen::MatrixXd phi = Y * small.eigenvectors();
     for (Eigen::Index j = 0; j < phi.cols(); ++j) {
         const double lambda = result.values[j];
-        const double scale = std::max(std::abs(lambda), std::abs(report.sigma)) * M_phi.col(j).norm();
-        report.max_residual = std::max(report.max_residual, (L_phi.col(j) - lambda * M_phi.col(j)).norm() / scale);
+        const Eigen::VectorXd L_phi = L * phi.col(j), M_phi = M * phi.col(j);
+        const double scale = std::max(std::abs(lambda), std::abs(report.sigma)) * M_phi.norm();
+        report.max_residual = std::max(report.max_residual, (L_phi - lambda * M_phi).norm() / scale);
     }
     report.max_orthogonality_error =
-        phi.cols() > 0
-            ? (phi.transpose() * M_phi - Eigen::MatrixXd::Identity(phi.cols(), phi.cols())).cwiseAbs().maxCoeff()
-            : 0.0;
+        (projected(phi, M, phi) - Eigen::MatrixXd::Identity(phi.cols(), phi.cols())).cwiseAbs().maxCoeff();
     result.vectors = restricted ? Eigen::MatrixXd(P.transpose() * phi) : phi;
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.report = report;
