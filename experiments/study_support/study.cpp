@@ -281,13 +281,18 @@ std::vector<int> boundary_vertices(const sdmesh::Triangulation& t) {
 double mean_edge_length(const sdmesh::Triangulation& t) { return t.length.mean(); }
 
 Eigen::VectorXd smallest_eigenvalues(const sdmesh::Triangulation& t, int k, bool dirichlet) {
-    sdmesh::EigenOptions options{.k = k};
+    // Lanczos can miss a member of a large degenerate cluster (the sphere's l(l+1) has 2l+1) when
+    // the cluster sits at the end of the wanted range; asking for more keeps it inside.
+    const int extra = std::max(10, k / 2);
+    sdmesh::EigenOptions options{.k = k + extra};
     if (dirichlet) options.dirichlet_vertices = boundary_vertices(t);
+    const int free_vertices = t.num_vertices - static_cast<int>(options.dirichlet_vertices.size());
+    options.k = std::min(options.k, free_vertices - 1);
     const sdmesh::EigenResult result =
         sdmesh::smallest_eigenpairs(sdmesh::cotan_laplacian(t), sdmesh::mass_matrix(t), options);
     if (result.report.status != sdmesh::EigenStatus::converged)
         throw std::runtime_error("eigen solver did not converge (" + std::to_string(t.num_vertices) + " vertices)");
-    return result.values;
+    return result.values.head(std::min<Eigen::Index>(k, result.values.size()));
 }
 
 Eigen::VectorXd delaunay_margins(const sdmesh::Triangulation& t) {
