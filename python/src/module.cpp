@@ -16,6 +16,7 @@
 #include "arrays.hpp"
 #include "cli/reports.hpp"
 #include "sdmesh/convert.hpp"
+#include "sdmesh/decimate.hpp"
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/eigen.hpp"
 #include "sdmesh/error.hpp"
@@ -186,6 +187,37 @@ py::tuple convert_py(py::handle V, py::handle F, const std::string& method, cons
     }
     const py::dict report = to_dict(cli::conversion_json(options, result.report));
     return py::make_tuple(to_numpy(std::move(result.mesh.V)), to_numpy(std::move(result.mesh.F)), report);
+}
+
+py::tuple decimate_py(py::handle V, py::handle F, long long target_vertices, double target_ratio, double max_error,
+                      const std::string& boundary, double tolerance, py::handle levels, bool search_candidates,
+                      bool progress, bool measure_hausdorff) {
+    const TriangleMesh mesh = mesh_from_arrays(V, F);
+    DecimateOptions options{.target_vertices = target_vertices,
+                            .target_ratio = target_ratio,
+                            .max_error = max_error,
+                            .boundary = parse_boundary(boundary),
+                            .tolerance = tolerance,
+                            .search_candidates = search_candidates,
+                            .progress = progress,
+                            .measure_hausdorff = measure_hausdorff};
+    if (!levels.is_none())
+        for (const int count : indices_from_array(levels, "levels")) options.levels.push_back(count);
+    DecimateResult result;
+    {
+        py::gil_scoped_release unlocked;
+        result = decimate(mesh, options);
+    }
+    // The CLI's keys, with "levels" the vertex counts of the levels (the CLI maps file names to them).
+    py::dict report = to_dict(cli::decimation_counts_json(options, result.report));
+    py::list level_counts, level_meshes;
+    for (TriangleMesh& level : result.levels) {
+        level_counts.append(level.num_vertices());
+        level_meshes.append(py::make_tuple(to_numpy(std::move(level.V)), to_numpy(std::move(level.F))));
+    }
+    report["levels"] = level_counts;
+    for (const auto& [key, value] : to_dict(cli::decimation_outcome_json(options, result.report))) report[key] = value;
+    return py::make_tuple(to_numpy(std::move(result.mesh.V)), to_numpy(std::move(result.mesh.F)), report, level_meshes);
 }
 
 // L, M, d0, d1 and the three stars of t (as diagonal matrices, like the CLI's files); the summary
@@ -386,6 +418,25 @@ Converts a manifold mesh into a self-Delaunay mesh (method "split", "hybrid" or 
 sdmesh/convert.hpp). New vertices come after the input's. report: the keys of `sdmesh convert`'s
 JSON except input/output; report["status"] is "certified", "budget_exhausted" or "not_certified".
 Raises InvalidMeshError (run a repair first), InvalidArgumentError.)");
+
+    const DecimateOptions decimate_defaults;
+    m.def("decimate", &decimate_py, arg("V"), arg("F"), py::kw_only(),
+          arg("target_vertices") = decimate_defaults.target_vertices, arg("target_ratio") = decimate_defaults.target_ratio,
+          arg("max_error") = decimate_defaults.max_error, arg("boundary") = strict,
+          arg("tolerance") = decimate_defaults.tolerance, arg("levels") = py::none(),
+          arg("search_candidates") = decimate_defaults.search_candidates, arg("progress") = decimate_defaults.progress,
+          arg("measure_hausdorff") = decimate_defaults.measure_hausdorff,
+          R"(decimate(V, F, *, target_vertices=0, target_ratio=0.5, max_error=0.0, boundary="strict",
+         tolerance=1e-10, levels=None, search_candidates=True, progress=False,
+         measure_hausdorff=True) -> (V, F, report, levels)
+
+Coarsens a self-Delaunay mesh by edge collapses that keep it self-Delaunay (sdmesh/decimate.hpp), to
+target_vertices (or target_ratio of the input's vertices when it is 0). max_error: largest distance
+to the input relative to its bounding-box diagonal (0: none). levels: decreasing vertex counts at
+which a copy of the mesh is kept; returned as a list of (V, F). report: the keys of `sdmesh
+decimate`'s JSON except input/output, "levels" holding the levels' vertex counts; report["status"]
+is "reached_target" or "stalled".
+Raises InvalidArgumentError (the mesh is not self-Delaunay: convert() it first), InvalidMeshError.)");
 
     m.def("operators", &operators_py, arg("V"), arg("F"), arg("mass") = kDefaultMass,
           R"(operators(V, F, mass="barycentric") -> dict

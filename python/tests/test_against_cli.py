@@ -9,7 +9,7 @@ import scipy.io
 import scipy.sparse
 
 import sdmesh
-from conftest import cli_json, grid, without_timings
+from conftest import DATA_DIR, cli_json, grid, without_timings
 from test_arrays_and_errors import read_binary_ply_fields
 
 MASSES = ["barycentric", "circumcentric", "mixed", "galerkin"]
@@ -88,6 +88,26 @@ def test_convert_equals_the_cli(cli, tmp_path, bunny_path, bunny, converted_bunn
     np.testing.assert_array_equal(V, V_cli)
     np.testing.assert_array_equal(F, F_cli)
     assert sdmesh.check(V, F)["self_delaunay"]
+
+
+def test_decimate_equals_the_cli(cli, tmp_path, converted_bunny):
+    V, F = sdmesh.read_mesh(converted_bunny)
+    level = len(V) * 3 // 4
+    done = cli("decimate", converted_bunny, tmp_path / "out.obj", "--target-ratio", "0.5", "--levels",
+               repr(level / len(V)))
+    expected = cli_json(done)
+    del expected["input"], expected["output"]
+    V2, F2, report, levels = sdmesh.decimate(V, F, target_ratio=0.5, levels=[level])
+    assert list(report) == list(expected)
+    assert report["levels"] == list(expected["levels"].values()) == [level]
+    assert without_timings(report) | {"levels": None} == without_timings(expected) | {"levels": None}
+    for (ours_V, ours_F), path in (((V2, F2), tmp_path / "out.obj"), (levels[0], tmp_path / "out_level1.obj")):
+        theirs_V, theirs_F = sdmesh.read_mesh(path)
+        np.testing.assert_array_equal(ours_V, theirs_V)
+        np.testing.assert_array_equal(ours_F, theirs_F)
+    assert report["certificate"]["self_delaunay"] and sdmesh.check(V2, F2)["self_delaunay"]
+    with pytest.raises(sdmesh.InvalidArgumentError):
+        sdmesh.decimate(*sdmesh.read_mesh(DATA_DIR / "bunny.obj"))  # not self-Delaunay
 
 
 def read_eigs(directory):

@@ -49,15 +49,6 @@ std::filesystem::path level_path(const std::filesystem::path& out, size_t level)
     return out.parent_path() / (stem + "_level" + std::to_string(level) + extension);
 }
 
-JsonObject rejections_json(const DecimateRejections& r) {
-    JsonObject json;
-    json.add("topology", r.topology)
-        .add("not_delaunay", r.not_delaunay)
-        .add("normal_flip", r.normal_flip)
-        .add("max_error", r.max_error);
-    return json;
-}
-
 }  // namespace
 
 int run_decimate(Args& args) {
@@ -111,19 +102,9 @@ int run_decimate(Args& args) {
     json.add("input", paths[0]).add("output", paths[1]);
     if (conversion)
         json.add("conversion_splits", conversion->splits).add("converted_vertices", conversion->output_vertices);
-    json.add("input_vertices", r.input_vertices)
-        .add("input_faces", r.input_faces)
-        .add("target_vertices", r.target_vertices)
-        .add("output_vertices", r.output_vertices)
-        .add("output_faces", r.output_faces)
-        .add("collapses", r.collapses)
-        .add("rejected", rejections_json(r.rejected))
-        .add("max_error", options.max_error)
+    json.merge(decimation_counts_json(options, r))
         .add("levels", levels_json)
-        .add("status", to_string(r.status))
-        .add("seconds", r.seconds)
-        .add("hausdorff_rel", r.hausdorff_rel)
-        .add("certificate", certificate_json(r.certificate, {.boundary = options.boundary, .tolerance = options.tolerance}));
+        .merge(decimation_outcome_json(options, r));
     const std::string text = json.str() + "\n";
     if (report_path) write_text_file(*report_path, text);
     std::cout << text;

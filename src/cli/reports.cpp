@@ -13,6 +13,15 @@ constexpr MassChoice kMassChoices[] = {
     {"galerkin", MassType::galerkin},
 };
 
+JsonObject rejections_json(const DecimateRejections& r) {
+    JsonObject json;
+    json.add("topology", r.topology)
+        .add("not_delaunay", r.not_delaunay)
+        .add("normal_flip", r.normal_flip)
+        .add("max_error", r.max_error);
+    return json;
+}
+
 double min_or_infinity(const Eigen::VectorXd& x) {
     return x.size() > 0 ? x.minCoeff() : std::numeric_limits<double>::infinity();
 }
@@ -102,6 +111,29 @@ JsonObject conversion_json(const ConvertOptions& options, const ConversionReport
         .add("unflippable_edges", r.unflippable_edges)
         .add("vertices_inside_faces", r.vertices_inside_faces)
         .add("status", to_string(r.status))
+        .add("seconds", r.seconds)
+        .add("hausdorff_rel", r.hausdorff_rel)
+        .add("certificate",
+             certificate_json(r.certificate, {.boundary = options.boundary, .tolerance = options.tolerance}));
+    return json;
+}
+
+JsonObject decimation_counts_json(const DecimateOptions& options, const DecimateReport& r) {
+    JsonObject json;
+    json.add("input_vertices", r.input_vertices)
+        .add("input_faces", r.input_faces)
+        .add("target_vertices", r.target_vertices)
+        .add("output_vertices", r.output_vertices)
+        .add("output_faces", r.output_faces)
+        .add("collapses", r.collapses)
+        .add("rejected", rejections_json(r.rejected))
+        .add("max_error", options.max_error);
+    return json;
+}
+
+JsonObject decimation_outcome_json(const DecimateOptions& options, const DecimateReport& r) {
+    JsonObject json;
+    json.add("status", to_string(r.status))
         .add("seconds", r.seconds)
         .add("hausdorff_rel", r.hausdorff_rel)
         .add("certificate",

@@ -11,6 +11,7 @@
 
 #include "cli/json.hpp"
 #include "sdmesh/convert.hpp"
+#include "sdmesh/decimate.hpp"
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/eigen.hpp"
 #include "sdmesh/intrinsic.hpp"
@@ -48,6 +49,13 @@ JsonObject certificate_json(const DelaunayCertificate& cert, const CertifyOption
 
 /// `sdmesh convert`'s report after the file names: options, counts, status, certificate.
 JsonObject conversion_json(const ConvertOptions& options, const ConversionReport& report);
+
+/// `sdmesh decimate`'s counts, from input_vertices to max_error (the CLI writes its file names
+/// before them and "levels" after them).
+JsonObject decimation_counts_json(const DecimateOptions& options, const DecimateReport& report);
+
+/// `sdmesh decimate`'s outcome after "levels": status, seconds, hausdorff_rel, certificate.
+JsonObject decimation_outcome_json(const DecimateOptions& options, const DecimateReport& report);
 
 /// The operator summary of `sdmesh operators` / `sdmesh intrinsic`: vertices, edges, faces, mass,
 /// nnz_L, nnz_M, min_star0, min_star1, negative_star0, negative_star1.
