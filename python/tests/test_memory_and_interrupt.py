@@ -6,6 +6,7 @@ import os
 import signal
 import sys
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -78,3 +79,25 @@ def test_keyboard_interrupt_stops_heat_between_steps():
             sdmesh.heat(V, F, u0, 1e-3, steps=2**31 - 1)  # hours of steps unless interrupted
     finally:
         timer.cancel()
+
+
+def test_long_calls_release_the_gil(bunny):
+    """Two threads converting at once overlap in time: neither holds the GIL while in C++ (with
+    the GIL held, the second call could only start after the first returned)."""
+    barrier = threading.Barrier(2)
+    spans = []
+
+    def convert():
+        barrier.wait()
+        start = time.perf_counter()
+        sdmesh.convert(*bunny, method="split")
+        spans.append((start, time.perf_counter()))
+
+    threads = [threading.Thread(target=convert) for _ in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    (start_a, end_a), (start_b, end_b) = spans
+    overlap = min(end_a, end_b) - max(start_a, start_b)
+    assert overlap > 0.5 * min(end_a - start_a, end_b - start_b)
