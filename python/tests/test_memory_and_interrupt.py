@@ -1,5 +1,5 @@
 """Returned arrays own their C++ buffers and free them: no growth over 1,000 calls; Ctrl-C stops a
-long heat run between steps."""
+long heat run between steps; C++ runs without the GIL."""
 
 import gc
 import os
