@@ -125,7 +125,8 @@ public:
 
     [[nodiscard]] long long live_vertices() const { return live_vertices_; }
 
-    void run(long long target, DecimateReport& report, std::vector<TriangleMesh>& levels) {
+    void run(long long target, const std::vector<int>& input_vertex, DecimateReport& report,
+             std::vector<TriangleMesh>& levels) {
         for (int u = 0; u < static_cast<int>(P_.size()); ++u) {
             if (!alive_[u]) continue;
             for (int w : neighbours(u))
@@ -170,7 +171,7 @@ public:
             collapse(keep, drop, x);
             ++report.collapses;
             while (next_level < options_.levels.size() && live_vertices_ <= options_.levels[next_level]) {
-                levels.push_back(result());
+                levels.push_back(result(input_vertex));
                 ++next_level;
             }
             if (options_.progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
@@ -181,15 +182,19 @@ public:
         }
     }
 
-    [[nodiscard]] TriangleMesh result() const {
+    /// The current mesh; survivors keep the order of `input_vertex` (their index in the caller's mesh).
+    [[nodiscard]] TriangleMesh result(const std::vector<int>& input_vertex) const {
+        std::vector<int> survivors;
+        for (size_t v = 0; v < P_.size(); ++v)
+            if (alive_[v]) survivors.push_back(static_cast<int>(v));
+        std::sort(survivors.begin(), survivors.end(), [&](int a, int b) { return input_vertex[a] < input_vertex[b]; });
         std::vector<int> index(P_.size(), -1);
-        int nv = 0;
-        for (size_t v = 0; v < P_.size(); ++v)
-            if (alive_[v]) index[v] = nv++;
         TriangleMesh out;
-        out.V.resize(nv, 3);
-        for (size_t v = 0; v < P_.size(); ++v)
-            if (alive_[v]) out.V.row(index[v]) = P_[v].transpose();
+        out.V.resize(static_cast<Eigen::Index>(survivors.size()), 3);
+        for (int i = 0; i < static_cast<int>(survivors.size()); ++i) {
+            index[survivors[i]] = i;
+            out.V.row(i) = P_[survivors[i]].transpose();
+        }
         out.F.resize(std::count(face_alive_.begin(), face_alive_.end(), 1), 3);
         int row = 0;
         for (size_t f = 0; f < corner_.size(); ++f) {
@@ -407,8 +412,16 @@ private:
                 if (auto x = region_minimum(r, inverse, optimum, region, slack)) out.push_back(*x);
                 extra.push_back(optimum);
             }
+            extra.push_back(segment_minimum(r, P_[p], P_[q] - P_[p], 0, 1));
         }
-        if (!options_.search_candidates) return out;
+        // A nearly singular quadric can put its optimum far away, where the new faces would make a
+        // spike that no local test sees: v stays within an edge length of the edge's midpoint.
+        const double reach2 = (P_[q] - P_[p]).squaredNorm();
+        const auto near_edge = [&](const Vec3& y) { return (y - mid).squaredNorm() <= reach2; };
+        if (!options_.search_candidates) {
+            std::erase_if(out, [&](const Vec3& y) { return !near_edge(y); });
+            return out;
+        }
         // All candidates by quadric cost (the region's point first on ties): the linearised
         // region is conservative, and an end of the edge outside it may pass the exact test at a
         // lower cost — removing a split vertex exactly, for one.
@@ -419,7 +432,7 @@ private:
         std::sort(order.begin(), order.end());
         out.clear();
         for (const auto& [cost, i] : order)
-            if (std::find(out.begin(), out.end(), extra[i]) == out.end()) out.push_back(extra[i]);
+            if (near_edge(extra[i]) && std::find(out.begin(), out.end(), extra[i]) == out.end()) out.push_back(extra[i]);
         return out;
     }
 
@@ -687,6 +700,47 @@ private:
     std::vector<Vec3> samples_;
 };
 
+// The mesh with its vertices renumbered along a Morton curve of their positions and its faces
+// sorted by their lowest new vertex, so that neighbourhoods are close in memory during the
+// collapses; input_vertex maps the new vertex indices back.
+struct SpatialOrder {
+    TriangleMesh mesh;
+    std::vector<int> input_vertex;
+};
+
+SpatialOrder spatial_order(const TriangleMesh& mesh) {
+    const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+    const Eigen::RowVector3d low = mesh.V.colwise().minCoeff();
+    const double extent = std::max((mesh.V.colwise().maxCoeff() - low).maxCoeff(), std::numeric_limits<double>::min());
+    std::vector<std::pair<unsigned long long, int>> code(static_cast<size_t>(nv));
+    for (int v = 0; v < nv; ++v) {
+        unsigned long long key = 0;
+        for (int axis = 0; axis < 3; ++axis) {
+            const auto cell = static_cast<unsigned long long>((mesh.V(v, axis) - low[axis]) / extent * 2097151.0);
+            for (int bit = 0; bit < 21; ++bit) key |= ((cell >> bit) & 1ULL) << (3 * bit + axis);
+        }
+        code[v] = {key, v};
+    }
+    std::sort(code.begin(), code.end());
+    SpatialOrder out;
+    out.input_vertex.resize(static_cast<size_t>(nv));
+    std::vector<int> new_index(static_cast<size_t>(nv));
+    out.mesh.V.resize(nv, 3);
+    for (int i = 0; i < nv; ++i) {
+        out.input_vertex[i] = code[i].second;
+        new_index[code[i].second] = i;
+        out.mesh.V.row(i) = mesh.V.row(code[i].second);
+    }
+    std::vector<std::pair<int, int>> face_order(static_cast<size_t>(nf));
+    for (int f = 0; f < nf; ++f)
+        face_order[f] = {std::min({new_index[mesh.F(f, 0)], new_index[mesh.F(f, 1)], new_index[mesh.F(f, 2)]}), f};
+    std::sort(face_order.begin(), face_order.end());
+    out.mesh.F.resize(nf, 3);
+    for (int i = 0; i < nf; ++i)
+        for (int k = 0; k < 3; ++k) out.mesh.F(i, k) = new_index[mesh.F(face_order[i].second, k)];
+    return out;
+}
+
 void check_options(const DecimateOptions& o, long long input_vertices, long long target) {
     if (o.target_vertices < 0) throw InvalidArgumentError("decimate: target_vertices must be >= 0");
     if (o.target_vertices == 0 && !(o.target_ratio > 0 && o.target_ratio <= 1))
@@ -734,9 +788,10 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     report.input_vertices = input_vertices;
     report.input_faces = mesh.num_faces();
     report.target_vertices = target;
-    Decimator decimator(mesh, edges, options);
-    decimator.run(target, report, result.levels);
-    result.mesh = decimator.result();
+    const SpatialOrder ordered = spatial_order(mesh);
+    Decimator decimator(ordered.mesh, build_edge_table(ordered.mesh.F, ordered.mesh.num_vertices()), options);
+    decimator.run(target, ordered.input_vertex, report, result.levels);
+    result.mesh = decimator.result(ordered.input_vertex);
     report.output_vertices = result.mesh.num_vertices();
     report.output_faces = result.mesh.num_faces();
     report.certificate = certify(result.mesh, certify_options);
