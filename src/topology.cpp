@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <numeric>
 
 #include "prefault.hpp"
@@ -73,7 +74,7 @@ std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const Edge
 
 }  // namespace
 
-EdgeTable build_edge_table(const Eigen::MatrixX3i& F, int num_vertices) {
+EdgeTable build_edge_table(const Eigen::MatrixX3i& F, int num_vertices, NonmanifoldVertices nonmanifold_vertices) {
     const int num_faces = static_cast<int>(F.rows());
     std::vector<char> valid_face(static_cast<size_t>(num_faces));
     for (int f = 0; f < num_faces; ++f) valid_face[f] = !has_repeated_index(F, f);
@@ -86,8 +87,8 @@ EdgeTable build_edge_table(const Eigen::MatrixX3i& F, int num_vertices) {
         for (int f = 0; f < num_faces; ++f)
             if (valid_face[f]) ++bucket_start[std::min(F(f, (k + 1) % 3), F(f, (k + 2) % 3)) + 1];
     std::partial_sum(bucket_start.begin(), bucket_start.end(), bucket_start.begin());
-    std::vector<std::uint64_t> keys;
-    detail::prefaulted_assign(keys, static_cast<size_t>(bucket_start.back()), std::uint64_t{0});
+    const std::unique_ptr<std::uint64_t[]> keys(new std::uint64_t[bucket_start.back()]);  // all written below
+    detail::prefault(keys.get(), sizeof(std::uint64_t) * static_cast<size_t>(bucket_start.back()));
     {
         std::vector<int> fill(bucket_start.begin(), bucket_start.end() - 1);
         for (int k = 0; k < 3; ++k)
@@ -106,7 +107,7 @@ EdgeTable build_edge_table(const Eigen::MatrixX3i& F, int num_vertices) {
 #pragma omp parallel for schedule(dynamic, 1024)
     for (int v = 0; v < num_vertices; ++v) {
         const std::size_t begin = bucket_start[v], end = bucket_start[v + 1];
-        std::sort(keys.begin() + static_cast<std::ptrdiff_t>(begin), keys.begin() + static_cast<std::ptrdiff_t>(end));
+        std::sort(keys.get() + begin, keys.get() + end);
         int count = 0;
         for (std::size_t i = begin; i < end; ++i) count += is_new_edge(i, begin);
         edge_start[v + 1] = count;
@@ -136,7 +137,8 @@ EdgeTable build_edge_table(const Eigen::MatrixX3i& F, int num_vertices) {
             if (rank < 2) table.edge_halfedges(e, rank) = h;
         }
     }
-    table.nonmanifold_vertices = find_nonmanifold_vertices(F, table, valid_face, num_vertices);
+    if (nonmanifold_vertices == NonmanifoldVertices::find)
+        table.nonmanifold_vertices = find_nonmanifold_vertices(F, table, valid_face, num_vertices);
     return table;
 }
 

@@ -22,7 +22,7 @@ Triangulation connectivity(const Eigen::MatrixX3i& F, int num_vertices) {
     for (int f = 0; f < num_faces; ++f)
         if (has_repeated_index(F, f))
             throw InvalidMeshError("face " + std::to_string(f) + " has a repeated vertex index");
-    EdgeTable table = build_edge_table(F, num_vertices);
+    EdgeTable table = build_edge_table(F, num_vertices, NonmanifoldVertices::skip);
     for (int e = 0; e < table.num_edges(); ++e)
         if (table.face_count[e] > 2)
             throw InvalidMeshError("edge (" + std::to_string(table.E(e, 0)) + ", " + std::to_string(table.E(e, 1)) +
