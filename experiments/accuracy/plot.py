@@ -82,6 +82,7 @@ def main():
         ax.set_ylabel("mean relative eigenvalue error")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=6.5, loc="upper left")
+        ax.xaxis.set_minor_formatter(plotting.NullFormatter())  # decades only: minor labels collide
     figure.suptitle("Eigenvalue error under refinement: regular (solid), flipped (dashed), jittered (dotted); "
                     "red original, blue split self-Delaunay, green iDT", fontsize=10)
     plotting.save(figure, out / "accuracy.png", title_space=0.08)

@@ -26,9 +26,11 @@ namespace {
 
 constexpr int kSource = 0;
 
-// Writes the field as DIR/geodesics_<stem>_<connectivity>.ply for drawing (the iDT on the input's faces).
+// Writes the field as DIR/geodesics_<stem>_<connectivity>.ply for drawing (the iDT on the input's
+// faces); plot.py draws original, split and iDT.
 void write_field(const study::Args& args, const std::string& stem, const study::Variant& variant,
                  const Eigen::VectorXd& distance) {
+    if (variant.connectivity == study::Connectivity::hybrid) return;
     const std::string name = "geodesics_" + stem + "_" + std::string(study::to_string(variant.connectivity)) + ".ply";
     sdmesh::write_mesh(args.out / name, variant.mesh, {.vertex_fields = {{"distance", distance}}, .ply_ascii = true});
 }

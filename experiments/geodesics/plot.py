@@ -39,6 +39,7 @@ def sphere_figure(out):
     ax.set_title("Heat-method distance on icospheres: regular (solid) vs re-triangulated (dashed)", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
+    ax.xaxis.set_minor_formatter(plotting.NullFormatter())  # decades only: minor labels collide
     plotting.save(figure, out / "geodesics_sphere.png")
     return plotting.markdown_table(["sphere mesh", "connectivity", "fitted order", "error, finest mesh"], rows)
 

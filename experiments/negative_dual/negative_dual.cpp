@@ -11,7 +11,7 @@
 //  - whether a heat step with a small t and the eigenpairs run (both need M + tL, L − σM positive
 //    definite).
 // (For f = 1 the circumcentric solve would be exact whatever the signs: on a planar mesh the cotan
-// Laplacian of r² is exactly 4⋆0.)
+// Laplacian gives L·r² = −4⋆0 exactly.)
 //   negative_dual --out DIR [--quick]
 // Writes DIR/negative_dual_vertices.csv (per vertex and connectivity), DIR/negative_dual.csv (per
 // connectivity) and DIR/negative_dual_faces.csv (the triangles, for drawing).

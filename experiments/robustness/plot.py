@@ -19,6 +19,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "study_support"))
 import plotting  # noqa: E402
 
+SPREAD_FLOOR = 1e-6  # lower end of the y axis; smaller spreads are named in the panel
+
 
 def spectra(rows):
     """{(mesh, kind, connectivity): array perturbations x k}, and the vertex counts."""
@@ -73,6 +75,11 @@ def main():
                 index = np.arange(1, len(spread[c]) + 1)
                 ax.semilogy(index, np.maximum(spread[c], 1e-16), color=plotting.COLOURS[c], label=plotting.LABELS[c],
                             lw=1.3)
+            below = [c for c in spread if np.median(spread[c]) < SPREAD_FLOOR]
+            if below:  # e.g. hybrid flipping every perturbed edge back: the spectrum to rounding
+                ax.text(0.02, 0.04, ", ".join(f"{c}: {np.median(spread[c]):.0e} (below the axis)" for c in below),
+                        transform=ax.transAxes, fontsize=7)
+            ax.set_ylim(bottom=SPREAD_FLOOR)
             perturbations = arrays[(mesh, kind, "original")].shape[0]
             ax.set_title(f"{mesh}: {kind} ({perturbations} meshes)", fontsize=9)
             ax.set_xlabel("eigenvalue index i")

@@ -9,6 +9,7 @@ import matplotlib
 
 matplotlib.use("Agg")  # headless
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import NullFormatter  # noqa: E402,F401  (re-exported for the plot scripts)
 import numpy as np  # noqa: E402
 
 CONNECTIVITIES = ["original", "split", "hybrid", "idt"]
