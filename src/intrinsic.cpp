@@ -107,10 +107,8 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
     // edges of its hinge are pushed and so tested next, while they are still in cache.
     std::vector<char> queued;
     detail::prefaulted_assign(queued, static_cast<size_t>(ne), char{0});
-    constexpr int kAhead = 16;  // the side lengths are random reads: request them ahead
     for (int f = 0; f < t.num_faces(); ++f) {
-        if (f + kAhead < t.num_faces())
-            for (int k = 0; k < 3; ++k) __builtin_prefetch(&t.length[t.face_edge(f + kAhead, k)]);
+        detail::prefetch_sides_ahead(t, f);
         for (int k = 0; k < 3; ++k)
             if (cosine_numerator(t.side(f, k), t.side(f, (k + 1) % 3), t.side(f, (k + 2) % 3)) < 0)
                 queued[t.face_edge(f, k)] = 1;

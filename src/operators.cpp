@@ -163,7 +163,10 @@ Eigen::VectorXd face_areas(const Triangulation& t) {
     Eigen::VectorXd area(nf);
     detail::prefault(area);
 #pragma omp parallel for schedule(static) if (nf >= kMinParallel)
-    for (int f = 0; f < nf; ++f) area[f] = triangle_area(t.side(f, 0), t.side(f, 1), t.side(f, 2));
+    for (int f = 0; f < nf; ++f) {
+        detail::prefetch_sides_ahead(t, f);
+        area[f] = triangle_area(t.side(f, 0), t.side(f, 1), t.side(f, 2));
+    }
     return area;
 }
 
@@ -187,6 +190,7 @@ Eigen::VectorXd star1(const Triangulation& t) {
     detail::prefault(cot.get(), sizeof(double) * 3 * static_cast<size_t>(nf));
 #pragma omp parallel for schedule(static) if (nf >= kMinParallel)
     for (int f = 0; f < nf; ++f) {
+        detail::prefetch_sides_ahead(t, f);
         const double area = triangle_area(t.side(f, 0), t.side(f, 1), t.side(f, 2));
         for (int k = 0; k < 3; ++k) cot[3 * f + k] = cotangent(t, f, k, area);
     }
@@ -194,6 +198,9 @@ Eigen::VectorXd star1(const Triangulation& t) {
     detail::prefault(w);
 #pragma omp parallel for schedule(static) if (ne >= kMinParallel)
     for (int e = 0; e < ne; ++e) {
+        if (e + detail::kPrefetchDistance < ne)  // the corners of an edge are random reads too
+            for (const int h : t.edge_halfedges.row(e + detail::kPrefetchDistance))
+                if (h >= 0) __builtin_prefetch(&cot[h]);
         const int h1 = t.edge_halfedges(e, 1);
         w[e] = (cot[t.edge_halfedges(e, 0)] + (h1 >= 0 ? cot[h1] : 0.0)) / 2;
     }
