@@ -407,5 +407,25 @@ TEST_F(Cli, PoissonAndHeatWriteTheLibrarysSolutions) {
     EXPECT_EQ(run("heat " + sphere + " --source 0 --u0 " + (dir_ / "f.txt").string() + " --time 1" + out), 2);
 }
 
+TEST_F(Cli, ValueFilesTakeEveryFiniteDoubleAndRejectWhatUnderflows) {
+    write_mesh(dir_ / "sphere.off", make_icosphere(1));
+    const int n = static_cast<int>(make_icosphere(1).V.rows());
+    {
+        std::ofstream f(dir_ / "f.txt");
+        for (int v = 0; v < n; ++v) f << (v % 2 ? "+1e-300\n" : "-2.5\n");
+        std::ofstream dirichlet(dir_ / "dirichlet.txt");
+        dirichlet << "3 3.56e-313\n";  // subnormal
+        std::ofstream underflow(dir_ / "underflow.txt");
+        underflow << "3 1e-400\n";
+    }
+    const std::string sphere = (dir_ / "sphere.off").string(), out = " --out " + (dir_ / "u.ply").string();
+    const std::string f = " --f " + (dir_ / "f.txt").string();
+    ASSERT_EQ(run("poisson " + sphere + f + " --dirichlet " + (dir_ / "dirichlet.txt").string() + out), 0)
+        << read(dir_ / "err.txt");
+    EXPECT_EQ(read_vertex_field(read(dir_ / "u.ply"), "u", n)[3], 3.56e-313);
+    EXPECT_EQ(run("poisson " + sphere + f + " --dirichlet " + (dir_ / "underflow.txt").string() + out), 5);
+    EXPECT_NE(read(dir_ / "err.txt").find("'1e-400' is out of double range"), std::string::npos) << read(dir_ / "err.txt");
+}
+
 }  // namespace
 }  // namespace sdmesh

@@ -1,5 +1,6 @@
 #include "cli/solver_input.hpp"
 
+#include <charconv>
 #include <fstream>
 #include <sstream>
 
@@ -79,14 +80,13 @@ Eigen::MatrixXd read_table(const std::string& path, int columns) {
         std::istringstream fields(line);
         int count = 0;
         for (std::string field; fields >> field; ++count) {
-            size_t end = 0;
+            // from_chars, unlike stod, takes subnormal numbers; out-of-range ones are errors.
+            const char* first = field.data() + (field.size() > 1 && field[0] == '+' && field[1] != '-');
             double value = 0;
-            try {
-                value = std::stod(field, &end);
-            } catch (const std::exception&) {
-            }
-            if (end != field.size() || end == 0)
-                throw ParseError(path + ":" + std::to_string(line_number) + ": '" + field + "' is not a number");
+            const auto [end, error] = std::from_chars(first, field.data() + field.size(), value);
+            if (error != std::errc() || end != field.data() + field.size())
+                throw ParseError(path + ":" + std::to_string(line_number) + ": '" + field + "' is " +
+                                 (error == std::errc::result_out_of_range ? "out of double range" : "not a number"));
             values.push_back(value);
         }
         if (count != columns)
