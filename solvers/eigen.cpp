@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include <Eigen/Eigenvalues>
@@ -70,6 +71,15 @@ void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& optio
     if (!std::isnan(options.sigma) && !(options.sigma < 0))
         throw InvalidArgumentError("eigenpairs: the shift sigma must be negative (L is singular), got " +
                                    std::to_string(options.sigma));
+    // M must be positive definite; a non-positive diagonal entry (e.g. a negative circumcentric
+    // dual cell) rules that out, and Lanczos in the M inner product would break down on it.
+    const Eigen::VectorXd mass = M.diagonal();
+    for (Eigen::Index i = 0; i < mass.size(); ++i)
+        if (!(mass[i] > 0) || !std::isfinite(mass[i]))
+            throw NumericalError("eigenpairs: the mass matrix is not positive definite: M(" + std::to_string(i) +
+                                 ", " + std::to_string(i) + ") = " + std::to_string(mass[i]) +
+                                 " (a negative circumcentric dual cell? convert the mesh to self-Delaunay "
+                                 "or use another mass)");
 }
 
 }  // namespace
@@ -109,9 +119,15 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     Spectra::SparseSymMatProd<double> mass_op(M);
     Spectra::SymGEigsShiftSolver<ShiftInvertOp, Spectra::SparseSymMatProd<double>, Spectra::GEigsMode::ShiftInvert>
         lanczos(op, mass_op, k, basis, report.sigma);
-    lanczos.init();
-    lanczos.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance,
-                    Spectra::SortRule::SmallestAlge);
+    try {
+        lanczos.init();
+        lanczos.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance,
+                        Spectra::SortRule::SmallestAlge);
+    } catch (const Error&) {
+        throw;
+    } catch (const std::runtime_error& e) {  // Spectra's breakdowns, with its own words
+        throw NumericalError(std::string("eigenpairs: Lanczos failed: ") + e.what());
+    }
     report.iterations = static_cast<int>(lanczos.num_iterations());
     report.status =
         lanczos.info() == Spectra::CompInfo::Successful ? EigenStatus::converged : EigenStatus::not_converged;

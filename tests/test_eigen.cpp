@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_run.hpp"
+#include "meshes.hpp"
 #include "sdmesh/eigen.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
@@ -143,8 +144,22 @@ TEST(Arguments, AreChecked) {
     EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 3, .sigma = 0.5}), InvalidArgumentError);
     EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 3, .dirichlet_vertices = {12}}), InvalidArgumentError);
     EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 3, .basis_size = 3}), InvalidArgumentError);
-    EXPECT_THROW(smallest_eigenpairs(L, Sparse(-M), {.k = 3}), InvalidArgumentError);  // σ from trace > 0
+    EXPECT_THROW(smallest_eigenpairs(L, Sparse(-M), {.k = 3}), NumericalError);  // M not positive
     EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 3, .sigma = -1.0, .tolerance = 0}), InvalidArgumentError);
+}
+
+TEST(Arguments, MassWithANegativeDualCellIsRefusedByName) {
+    const Triangulation t = Triangulation::from_mesh(test::make_negative_dual_fan());
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::circumcentric);
+    Eigen::Index negative = 0;
+    ASSERT_LT(M.diagonal().minCoeff(&negative), 0);
+    try {
+        (void)smallest_eigenpairs(L, M, {.k = 2});
+        ADD_FAILURE() << "no exception";
+    } catch (const NumericalError& e) {
+        const std::string entry = "M(" + std::to_string(negative) + ", " + std::to_string(negative) + ")";
+        EXPECT_NE(std::string(e.what()).find(entry), std::string::npos) << e.what();
+    }
 }
 
 // ---- the CLI ---------------------------------------------------------------------------------------
