@@ -17,13 +17,13 @@
 // connectivity) and DIR/negative_dual_faces.csv (the triangles, for drawing).
 
 #include <cmath>
-#include <exception>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/eigen.hpp"
+#include "sdmesh/error.hpp"
 #include "sdmesh/operators.hpp"
 #include "sdmesh/pde.hpp"
 #include "study.hpp"
@@ -39,14 +39,13 @@ sdmesh::TriangleMesh make_negative_dual_disk(int rings) {
     return mesh;
 }
 
-// "ok", or the message of the exception the call threw (sdmesh::Error expected; Spectra's own
-// exceptions are caught too, so that the table shows what users get).
+// "ok", or the message of the sdmesh::Error the call threw.
 template <typename Call>
 std::string outcome(Call call) {
     try {
         call();
         return "ok";
-    } catch (const std::exception& error) {
+    } catch (const sdmesh::Error& error) {
         return std::string("fails: ") + error.what();
     }
 }
