@@ -44,7 +44,12 @@ public:
         input_edge_.resize(static_cast<size_t>(mesh_.num_edges()));
         for (int e = 0; e < mesh_.num_edges(); ++e) input_edge_[e] = e;
         queued_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
-        const double diagonal = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+        // An empty mesh has no bounding box (and no edge to split).
+        const double diagonal =
+            mesh.V.rows() == 0 ? 0.0 : (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+        // Coordinates near the double range would make split points and lengths overflow.
+        if (!std::isfinite(diagonal))
+            throw InvalidMeshError("convert: coordinates too large (the bounding-box diagonal overflows)");
         shell_unit_ = std::exp2(std::floor(std::log2(diagonal)) - 40.0);
     }
 

@@ -7,7 +7,10 @@
 #include <string_view>
 #include <vector>
 
+#include <signal.h>
+
 #include "cli/commands.hpp"
+#include "io/output_file.hpp"
 #include "sdmesh/error.hpp"
 
 namespace {
@@ -75,6 +78,22 @@ constexpr Command kCommands[] = {
     {"heat", run_heat},
 };
 
+// SIGINT / SIGTERM: remove the temporary files of unfinished writes (finished outputs were renamed
+// into place atomically, so no target is ever partial), then die of the signal as the caller
+// expects. SA_RESETHAND | SA_NODEFER make the re-raised signal take its default action at once.
+extern "C" void remove_temporaries_and_die(int signal_number) {
+    sdmesh::io::TemporaryFiles::remove_all();
+    ::raise(signal_number);
+}
+
+void clean_up_on_interruption() {
+    struct sigaction action {};
+    action.sa_handler = remove_temporaries_and_die;
+    action.sa_flags = SA_RESETHAND | SA_NODEFER;
+    sigemptyset(&action.sa_mask);
+    for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(signal_number, &action, nullptr);
+}
+
 int fail(int code, const std::string& message) {
     std::cerr << "sdmesh: " << message << '\n';
     return code;
@@ -83,6 +102,7 @@ int fail(int code, const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    clean_up_on_interruption();
     const std::vector<std::string> words(argv + 1, argv + argc);
     if (words.empty() || words[0] == "--help" || words[0] == "-h" || words[0] == "help") {
         std::cout << kHelpText;

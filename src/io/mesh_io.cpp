@@ -122,6 +122,11 @@ std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
 void write_atomically(const std::filesystem::path& path, bool gzip,
                       const std::function<void(OutputFile&)>& write) {
     const std::filesystem::path temporary = temporary_path_for(path);
+    // Recorded before it exists, so that a signal at any moment finds it (see TemporaryFiles).
+    struct Recorded {
+        int slot;
+        ~Recorded() { TemporaryFiles::release(slot); }
+    } recorded{TemporaryFiles::add(temporary)};
     OutputFile out(temporary, gzip, path.string());  // on failure nothing has been created
     try {
         write(out);

@@ -1,9 +1,11 @@
-// Wavefront OBJ: `v x y z [w]` and `f` (also the old `fo`) lines; everything else is ignored.
+// Wavefront OBJ: `v x y z [w]` and `f` (also the old `fo`) lines; every other keyword is ignored
+// (a keyword with control characters means binary data: a ParseError).
 //
 // Face corners are `v`, `v/vt`, `v//vn` or `v/vt/vn`; only v is kept. Indices start at 1;
 // negative ones count back from the last vertex defined so far. A positive index may refer to a
 // vertex defined further down the file, so it is checked against the final vertex count.
 
+#include <algorithm>
 #include <climits>
 #include <string>
 #include <vector>
@@ -26,6 +28,9 @@ public:
                 read_vertex();
             } else if (keyword == "f" || keyword == "fo") {
                 read_face();
+            } else if (std::any_of(keyword.begin(), keyword.end(), is_control)) {
+                // Unknown keywords are skipped, but a binary file is not an OBJ file without faces.
+                in_.fail("binary data, not an OBJ statement: " + quoted(keyword));
             }
             in_.next_line();  // also skips `w`, vertex colors and every other keyword
         }
@@ -34,6 +39,11 @@ public:
     }
 
 private:
+    static bool is_control(char c) {
+        const auto byte = static_cast<unsigned char>(c);
+        return byte < 0x20 || byte == 0x7f;
+    }
+
     void read_vertex() {
         const double x = in_.read_double("vertex x coordinate");
         const double y = in_.read_double("vertex y coordinate");

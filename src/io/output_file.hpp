@@ -3,6 +3,9 @@
 // writers share: text doubles with 17 significant digits (enough to give back the same bits)
 // and little-endian binary values.
 
+#include <unistd.h>
+
+#include <atomic>
 #include <charconv>
 #include <cstdio>
 #include <cstring>
@@ -66,6 +69,44 @@ private:
     std::unique_ptr<GzipEncoder> gzip_;
     std::string buffer_;
     std::string compressed_;
+};
+
+/// The temporary files being written right now, so that an interrupted program (SIGINT, SIGTERM)
+/// can remove them before it dies: the handler may only call async-signal-safe functions, hence
+/// fixed slots of plain characters rather than a container.
+class TemporaryFiles {
+public:
+    /// Records `path` (before the file is created); the slot to release, or -1 when every slot is
+    /// taken or the path is too long (that file is then just not cleaned up on a signal).
+    static int add(const std::filesystem::path& path) noexcept {
+        const std::string& name = path.native();
+        if (name.size() >= kMaxPath) return -1;
+        for (int slot = 0; slot < kSlots; ++slot) {
+            int expected = kFree;
+            if (!state_[slot].compare_exchange_strong(expected, kFilling)) continue;
+            std::memcpy(paths_[slot], name.c_str(), name.size() + 1);
+            state_[slot].store(kInUse);
+            return slot;
+        }
+        return -1;
+    }
+    /// Forgets a slot of add() (after the file was renamed or removed).
+    static void release(int slot) noexcept {
+        if (slot >= 0) state_[slot].store(kFree);
+    }
+    /// Removes every recorded file. Async-signal-safe: for signal handlers.
+    static void remove_all() noexcept {
+        for (int slot = 0; slot < kSlots; ++slot) {
+            if (state_[slot].load() == kInUse) ::unlink(paths_[slot]);
+        }
+    }
+
+private:
+    static constexpr int kSlots = 64;  // files written at the same time
+    static constexpr std::size_t kMaxPath = 4096;
+    enum : int { kFree, kFilling, kInUse };
+    static inline std::atomic<int> state_[kSlots] = {};
+    static inline char paths_[kSlots][kMaxPath] = {};
 };
 
 /// Writes a file all at once or not at all: `write` fills an OutputFile on a temporary file in the

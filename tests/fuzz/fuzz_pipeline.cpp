@@ -1,0 +1,78 @@
+// libFuzzer target: what `sdmesh check`, `convert` and `operators` do, on small decoded meshes.
+// The selector byte of fuzz_input.hpp also chooses the conversion method (bits 3-4) and the
+// boundary policy (bit 5). Meshes are capped and convert gets a vertex budget, so that no single
+// input runs long. Bad meshes may only be refused with InvalidMeshError; results must satisfy
+// the identities every caller relies on.
+
+#include <cstdlib>
+
+#include "fuzz_input.hpp"
+#include "sdmesh/convert.hpp"
+#include "sdmesh/delaunay.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/operators.hpp"
+#include "sdmesh/triangulation.hpp"
+#include "sdmesh/validate.hpp"
+
+namespace {
+
+constexpr int kMaxVertices = 64;
+constexpr int kMaxFaces = 128;
+constexpr long long kVertexBudget = 2000;
+
+void require(bool condition) {
+    if (!condition) std::abort();
+}
+
+void check_operators(const sdmesh::TriangleMesh& mesh) {
+    const sdmesh::Triangulation t = sdmesh::Triangulation::from_mesh(mesh);
+    const Eigen::SparseMatrix<double> L = sdmesh::cotan_laplacian(t);
+    // The exterior derivative twice is zero, exactly (integer entries).
+    const Eigen::SparseMatrix<double> dd = sdmesh::d1(t) * sdmesh::d0(t);
+    require(dd.norm() == 0);
+    require(L.rows() == t.num_vertices && L.cols() == t.num_vertices);
+    require((Eigen::SparseMatrix<double>(L.transpose()) - L).norm() <= 1e-12 * L.norm());
+    for (const auto type : {sdmesh::MassType::barycentric, sdmesh::MassType::circumcentric,
+                            sdmesh::MassType::mixed_voronoi, sdmesh::MassType::galerkin}) {
+        require(sdmesh::mass_matrix(t, type).rows() == t.num_vertices);
+    }
+    require(sdmesh::star0(t).size() == t.num_vertices);
+    require(sdmesh::star1(t).size() == t.num_edges());
+    require(sdmesh::star2(t).size() == t.num_faces());
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    sdmesh::TriangleMesh mesh;
+    try {
+        mesh = sdmesh::fuzz::parse_fuzz_input(data, size);
+    } catch (const sdmesh::ParseError&) {
+        return 0;
+    } catch (const sdmesh::UnsupportedFormatError&) {
+        return 0;
+    }
+    if (mesh.num_vertices() > kMaxVertices || mesh.F.rows() > kMaxFaces) return 0;
+
+    constexpr sdmesh::ConvertMethod kMethods[] = {sdmesh::ConvertMethod::split, sdmesh::ConvertMethod::hybrid,
+                                                  sdmesh::ConvertMethod::flip, sdmesh::ConvertMethod::split};
+    sdmesh::ConvertOptions options;
+    options.method = kMethods[(data[0] >> 3) & 3];
+    options.boundary = (data[0] & 32) != 0 ? sdmesh::BoundaryPolicy::free : sdmesh::BoundaryPolicy::strict;
+    options.max_vertices = kVertexBudget;
+    try {
+        // sdmesh check
+        const sdmesh::EdgeTable edges = sdmesh::build_edge_table(mesh.F, mesh.num_vertices());
+        const sdmesh::MeshInfo info = sdmesh::validate(mesh, edges);
+        require(info.faces == mesh.F.rows());
+        sdmesh::certify(mesh, edges, {.boundary = options.boundary});
+        // sdmesh convert, then sdmesh operators on its output
+        const sdmesh::ConversionResult result = sdmesh::convert(mesh, options);
+        require(result.mesh.num_vertices() >= mesh.num_vertices());
+        require(result.mesh.num_vertices() <= kVertexBudget + kMaxVertices);
+        require((result.mesh.V.topRows(mesh.num_vertices()).array() == mesh.V.array()).all());
+        check_operators(result.mesh);
+    } catch (const sdmesh::InvalidMeshError&) {
+    }
+    return 0;
+}
