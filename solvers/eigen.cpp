@@ -61,6 +61,9 @@ Eigen::MatrixXd projected(const Eigen::MatrixXd& X, const Sparse& A, const Eigen
     return 0.5 * (P + P.transpose());
 }
 
+// The least number of extra pairs asked of Lanczos (see smallest_eigenpairs).
+constexpr int kMinEigenMargin = 10;
+
 void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& options) {
     detail::check_square_pair(L, M, "eigenpairs");
     if (!(options.tolerance > 0))
@@ -103,10 +106,15 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     if (k < 1 || k >= n)
         throw InvalidArgumentError("eigenpairs: k must satisfy 1 <= k < n = " + std::to_string(n) + ", got " +
                                    std::to_string(k));
-    const int basis = options.basis_size == 0 ? std::min(n, std::max(2 * k + 1, 20)) : options.basis_size;
+    // Lanczos from one start vector can miss members of a cluster of (nearly) equal eigenvalues
+    // when only the wanted pairs are tested for convergence; on icospheres it did. So it is asked
+    // for a margin of extra pairs, which must converge too, and the k smallest are kept.
+    const int with_margin = std::min(n - 1, k + std::max(kMinEigenMargin, k / 2));
+    const int basis = options.basis_size == 0 ? std::min(n, std::max(2 * with_margin + 1, 20)) : options.basis_size;
     if (basis <= k || basis > n)
         throw InvalidArgumentError("eigenpairs: basis_size must be in (k, n] = (" + std::to_string(k) + ", " +
                                    std::to_string(n) + "], got " + std::to_string(basis));
+    const int nev = std::min(with_margin, basis - 1);
 
     EigenReport report;
     report.sigma = std::isnan(options.sigma) ? -L.diagonal().sum() / (n * M.diagonal().sum()) : options.sigma;
@@ -118,7 +126,7 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     ShiftInvertOp op(L, M, report.solves);
     Spectra::SparseSymMatProd<double> mass_op(M);
     Spectra::SymGEigsShiftSolver<ShiftInvertOp, Spectra::SparseSymMatProd<double>, Spectra::GEigsMode::ShiftInvert>
-        lanczos(op, mass_op, k, basis, report.sigma);
+        lanczos(op, mass_op, nev, basis, report.sigma);
     try {
         lanczos.init();
         lanczos.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance,
@@ -143,8 +151,9 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
         throw NumericalError("eigenpairs: the Rayleigh-Ritz step failed (M not positive definite?)");
 
     EigenResult result;
-    result.values = small.eigenvalues();
-    const Eigen::MatrixXd phi = Y * small.eigenvectors();
+    const Eigen::Index kept = std::min<Eigen::Index>(k, Y.cols());
+    result.values = small.eigenvalues().head(kept);
+    const Eigen::MatrixXd phi = Y * small.eigenvectors().leftCols(kept);
     for (Eigen::Index j = 0; j < phi.cols(); ++j) {
         const double lambda = result.values[j];
         const Eigen::VectorXd L_phi = L * phi.col(j), M_phi = M * phi.col(j);
