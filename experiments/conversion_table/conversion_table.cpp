@@ -6,8 +6,6 @@
 // Exit status: 0 all conversions ran (certified or not), 1 a conversion threw, 2 bad usage or input.
 
 #include <algorithm>
-#include <charconv>
-#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -21,12 +19,12 @@
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/validate.hpp"
+#include "study.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kUsage = "usage: conversion_table --out DIR [--corpus DIR] [--max-faces N] [--quick]";
 constexpr int kQuickMaxFaces = 10000;  // --quick: meshes with fewer faces only
 
 struct Config {
@@ -46,47 +44,6 @@ const std::vector<Config>& configs() {
         {"hybrid-20", {.method = ConvertMethod::hybrid, .max_dihedral_deg = 20}, false},
     };
     return all;
-}
-
-struct Options {
-    fs::path out;
-    fs::path corpus = SDMESH_CORPUS_DIR;
-    std::optional<long long> max_faces;
-    bool quick = false;
-};
-
-[[noreturn]] void usage_error(const std::string& message) {
-    std::cerr << "conversion_table: " << message << "\n" << kUsage << "\n";
-    std::exit(2);
-}
-
-Options parse_options(int argc, char** argv) {
-    Options options;
-    for (int i = 1; i < argc; ++i) {
-        const std::string_view arg = argv[i];
-        const auto value = [&]() -> std::string_view {
-            if (i + 1 >= argc) usage_error(std::string(arg) + " needs a value");
-            return argv[++i];
-        };
-        if (arg == "--out") {
-            options.out = value();
-        } else if (arg == "--corpus") {
-            options.corpus = value();
-        } else if (arg == "--max-faces") {
-            const std::string_view text = value();
-            long long n = 0;
-            const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), n);
-            if (error != std::errc{} || end != text.data() + text.size() || n < 0)
-                usage_error("--max-faces must be a non-negative integer, got '" + std::string(text) + "'");
-            options.max_faces = n;
-        } else if (arg == "--quick") {
-            options.quick = true;
-        } else {
-            usage_error("unknown argument '" + std::string(arg) + "'");
-        }
-    }
-    if (options.out.empty()) usage_error("--out DIR is required");
-    return options;
 }
 
 // The mesh files of the corpus (any extension read_mesh knows), by name.
@@ -168,7 +125,7 @@ std::string result_row(const std::string& key, const sdmesh::ConversionReport& r
 }  // namespace
 
 int main(int argc, char** argv) {
-    const Options options = parse_options(argc, argv);
+    const study::Args options = study::parse_args(argc, argv, "conversion_table");
     if (!fs::is_directory(options.corpus)) {
         std::cerr << "conversion_table: no corpus folder " << options.corpus << (options.quick ? ", nothing to do" : "")
                   << "\n";

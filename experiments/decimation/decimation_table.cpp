@@ -29,12 +29,12 @@
 #include "sdmesh/distance.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/validate.hpp"
+#include "study.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kUsage = "usage: decimation_table --out DIR [--corpus DIR] [--quick] [--mesh NAME]";
 
 // The manifold meshes of the corpus (the two non-manifold ones and the LARGE derived ones are
 // left out); --quick keeps the first two.
@@ -177,26 +177,11 @@ void write_markdown(const fs::path& file, const std::vector<Row>& rows) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    fs::path out, corpus = SDMESH_CORPUS_DIR;
-    bool quick = false;
-    std::string only;  // --mesh NAME: that corpus mesh alone
-    for (int i = 1; i < argc; ++i) {
-        const std::string_view arg = argv[i];
-        if ((arg == "--out" || arg == "--corpus") && i + 1 < argc) {
-            (arg == "--out" ? out : corpus) = argv[++i];
-        } else if (arg == "--quick") {
-            quick = true;
-        } else if (arg == "--mesh" && i + 1 < argc) {
-            only = argv[++i];
-        } else {
-            std::cerr << "decimation_table: unexpected argument '" << arg << "'\n" << kUsage << "\n";
-            return 2;
-        }
-    }
-    if (out.empty()) {
-        std::cerr << "decimation_table: --out DIR is required\n" << kUsage << "\n";
-        return 2;
-    }
+    const study::Args args = study::parse_args(argc, argv, "decimation_table");
+    const fs::path& out = args.out;
+    const fs::path& corpus = args.corpus;
+    const bool quick = args.quick;
+    const std::string& only = args.mesh;
     fs::create_directories(out);
     std::vector<Row> rows;
     int failed = 0;

@@ -1,6 +1,7 @@
 #include "study.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -26,15 +27,14 @@ namespace fs = std::filesystem;
 
 namespace study {
 
-namespace {
-
 Args parse_args(int argc, char** argv, std::string_view program) {
     const auto usage_error = [&](const std::string& message) {
         std::cerr << program << ": " << message << "\nusage: " << program
-                  << " --out DIR [--corpus DIR] [--quick]\n";
+                  << " --out DIR [--corpus DIR] [--quick] [--mesh NAME] [--max-faces N]\n";
         std::exit(2);
     };
-    Args args{.out = {}, .corpus = SDMESH_CORPUS_DIR, .quick = false};
+    Args args;
+    args.corpus = SDMESH_CORPUS_DIR;
     for (int i = 1; i < argc; ++i) {
         const std::string_view arg = argv[i];
         const auto value = [&]() -> std::string_view {
@@ -47,6 +47,15 @@ Args parse_args(int argc, char** argv, std::string_view program) {
             args.corpus = value();
         } else if (arg == "--quick") {
             args.quick = true;
+        } else if (arg == "--mesh") {
+            args.mesh = value();
+        } else if (arg == "--max-faces") {
+            const std::string_view text = value();
+            long long n = 0;
+            const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), n);
+            if (error != std::errc{} || end != text.data() + text.size() || n < 0)
+                usage_error("--max-faces must be a non-negative integer, got '" + std::string(text) + "'");
+            args.max_faces = n;
         } else {
             usage_error("unknown argument '" + std::string(arg) + "'");
         }
@@ -54,8 +63,6 @@ Args parse_args(int argc, char** argv, std::string_view program) {
     if (args.out.empty()) usage_error("--out DIR is required");
     return args;
 }
-
-}  // namespace
 
 int run_study(int argc, char** argv, std::string_view program, int (*body)(const Args&)) {
     const Args args = parse_args(argc, argv, program);

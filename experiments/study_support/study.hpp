@@ -6,6 +6,7 @@
 // Public sdmesh API only.
 
 #include <filesystem>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -19,12 +20,18 @@
 
 namespace study {
 
-/// `PROGRAM --out DIR [--corpus DIR] [--quick]`.
+/// `PROGRAM --out DIR [--corpus DIR] [--quick] [--mesh NAME] [--max-faces N]`, the command line of
+/// every program in experiments/ (a program ignores what does not concern it).
 struct Args {
     std::filesystem::path out;
     std::filesystem::path corpus;
     bool quick = false;  ///< tiny sizes, meshes made in code only: for ctest
+    std::string mesh;    ///< only this corpus mesh (a file name), when given
+    std::optional<long long> max_faces;  ///< skip corpus meshes with more faces
 };
+
+/// Parses the command line; prints the usage and exits with status 2 on a bad one.
+Args parse_args(int argc, char** argv, std::string_view program);
 
 /// A study's main(): parses the command line (usage and exit status 2 on a bad one), creates
 /// args.out and runs `body`; an exception is printed as one line and gives exit status 1.
