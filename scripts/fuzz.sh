@@ -21,8 +21,9 @@ export OMP_NUM_THREADS=1  # one core per fuzzer; the meshes are small
 for target in read_mesh pipeline; do
     mkdir -p "$dir/corpus/$target"
     echo "fuzz_$target: $seconds s"
-    # -timeout: one input may take 10 s at most; -rss_limit_mb: a bounded reader never needs more.
-    "$dir/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+    # -timeout: generous, because a starved (niced, shared-machine) run stalls for seconds; every
+    # input so far takes under half a second. -rss_limit_mb: the capped inputs never need more.
+    "$dir/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=60 -rss_limit_mb=2048 \
         -max_len=16384 -print_final_stats=1 -artifact_prefix="$dir/artifacts/" \
         "$dir/corpus/$target" "$dir/seeds" >"$dir/logs/$target.log" 2>&1 || {
         tail -n 60 "$dir/logs/$target.log"
