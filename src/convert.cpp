@@ -339,13 +339,7 @@ ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options
     require_indices_in_range(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
     const MeshInfo info = validate(mesh, edges);
-    require_manifold(info, "convert");
-    if (info.orientation_conflicts > 0)
-        throw InvalidMeshError("convert: the faces are not consistently oriented (" +
-                               std::to_string(info.orientation_conflicts) + " edges); run sdmesh repair");
-    if (info.zero_area_faces > 0)
-        throw InvalidMeshError("convert: face " + std::to_string(info.first_zero_area_face) +
-                               " has zero area (" + std::to_string(info.zero_area_faces) + " such faces)");
+    require_oriented_manifold(info, "convert");
 
     ConversionResult result;
     ConversionReport& report = result.report;

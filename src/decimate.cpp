@@ -763,13 +763,7 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     require_indices_in_range(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
     const MeshInfo info = validate(mesh, edges);
-    require_manifold(info, "decimate");
-    if (info.orientation_conflicts > 0)
-        throw InvalidMeshError("decimate: the faces are not consistently oriented (" +
-                               std::to_string(info.orientation_conflicts) + " edges); run sdmesh repair");
-    if (info.zero_area_faces > 0)
-        throw InvalidMeshError("decimate: face " + std::to_string(info.first_zero_area_face) + " has zero area (" +
-                               std::to_string(info.zero_area_faces) + " such faces)");
+    require_oriented_manifold(info, "decimate");
     const CertifyOptions certify_options{.boundary = options.boundary, .tolerance = options.tolerance};
     const long long input_vertices = info.vertices;
     const long long target = options.target_vertices > 0

@@ -218,6 +218,16 @@ void require_manifold(const MeshInfo& info, const std::string& what) {
         throw InvalidMeshError(what + ": " + defect);
 }
 
+void require_oriented_manifold(const MeshInfo& info, const std::string& what) {
+    require_manifold(info, what);
+    if (info.orientation_conflicts > 0)
+        throw InvalidMeshError(what + ": the faces are not consistently oriented (" +
+                               std::to_string(info.orientation_conflicts) + " edges); run sdmesh repair");
+    if (info.zero_area_faces > 0)
+        throw InvalidMeshError(what + ": face " + std::to_string(info.first_zero_area_face) + " has zero area (" +
+                               std::to_string(info.zero_area_faces) + " such faces)");
+}
+
 TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, RepairReport* report) {
     require_indices_in_range(mesh);
     RepairReport counts;

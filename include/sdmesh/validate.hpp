@@ -61,6 +61,10 @@ std::string first_defect(const MeshInfo& info);
 /// \throws InvalidMeshError "<what>: <first_defect(info)>" unless first_defect(info) is empty.
 void require_manifold(const MeshInfo& info, const std::string& what);
 
+/// What the mesh-editing algorithms (convert, decimate) need: a manifold, consistently oriented,
+/// with no zero-area face. \throws InvalidMeshError "<what>: ..." naming the first defect.
+void require_oriented_manifold(const MeshInfo& info, const std::string& what);
+
 /// Safe repairs, each optional; they never move a vertex. Applied in this order.
 struct RepairOptions {
     bool merge_coincident_vertices = true;  ///< vertices at exactly the same position become one
