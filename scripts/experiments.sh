@@ -25,7 +25,8 @@ step() {  # step NAME COMMAND...: runs the command and prints its wall time
 }
 
 step conversion_table "$build/experiments/conversion_table" --out "$out"
-step conversion_table_plot "$python" experiments/conversion_table/make_table.py "$out/conversion_table.csv"
+step conversion_table_tables "$python" experiments/conversion_table/make_table.py "$out/conversion_table.csv"
+step conversion_table_plot "$python" experiments/conversion_table/plot.py "$out"
 for study in "${studies[@]}"; do
   step "$study" "$build/experiments/$study" --out "$out"
   step "${study}_plot" "$python" "experiments/$study/plot.py" "$out"
