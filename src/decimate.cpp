@@ -129,7 +129,8 @@ public:
              std::vector<TriangleMesh>& levels) {
         for (int u = 0; u < static_cast<int>(P_.size()); ++u) {
             if (!alive_[u]) continue;
-            for (int w : neighbours(u))
+            neighbours(u, ring_);
+            for (int w : ring_)
                 if (w > u) push(u, w);
         }
         size_t next_level = 0;
@@ -217,15 +218,14 @@ private:
         return face[0] == v || face[1] == v || face[2] == v;
     }
 
-    // The neighbours of u, sorted.
-    std::vector<int> neighbours(int u) const {
-        std::vector<int> out;
+    // The neighbours of u, sorted, into out.
+    void neighbours(int u, std::vector<int>& out) const {
+        out.clear();
         for (int f : vertex_faces_[u])
             for (int v : corner_[f])
                 if (v != u) out.push_back(v);
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
-        return out;
     }
 
     // Which end stays: a boundary vertex keeps its place; otherwise the lower index (determinism).
@@ -344,10 +344,11 @@ private:
 
     // The quadric's minimum in the region for a free vertex: the unconstrained optimum if it is
     // inside, else the best feasible optimum on one or two planes of the constraints it violates.
-    static std::optional<Vec3> region_minimum(const Quadric& q, const Eigen::Matrix3d& inverse, const Vec3& optimum,
-                                              const std::vector<HalfSpace>& region, double slack) {
+    std::optional<Vec3> region_minimum(const Quadric& q, const Eigen::Matrix3d& inverse, const Vec3& optimum,
+                                       const std::vector<HalfSpace>& region, double slack) {
         if (inside(region, optimum, slack)) return optimum;
-        std::vector<int> violated;
+        std::vector<int>& violated = violated_;
+        violated.clear();
         for (int i = 0; i < static_cast<int>(region.size()); ++i)
             if (region[i].n.dot(optimum) < region[i].c - slack) violated.push_back(i);
         std::optional<Vec3> best;
@@ -383,15 +384,21 @@ private:
 
     // Where v may go, best first: the quadric optimum in the allowable region, then (with
     // search_candidates) the unconstrained optimum, the midpoint and the ends.
-    std::vector<Vec3> placements(int p, int q, const Quadric& quadric) {
+    // Into out (placements_), with extra_ and order_ as scratch.
+    void placements(int p, int q, const Quadric& quadric) {
+        std::vector<Vec3>& out = placements_;
+        std::vector<Vec3>& extra = extra_;
+        out.clear();
+        extra.clear();
         const Placement mode = placement(p, q);
-        if (mode == Placement::fixed) return {P_[p]};
+        if (mode == Placement::fixed) {
+            out.push_back(P_[p]);
+            return;
+        }
         const Vec3 mid = 0.5 * (P_[p] + P_[q]);
         std::vector<HalfSpace>& region = region_;
         allowable_region(p, q, region);
         const double slack = 1e-9 * distance(P_[p], P_[q]);
-        std::vector<Vec3> out;
-        std::vector<Vec3> extra;
         if (mode == Placement::on_edge) {
             const Vec3 d = P_[q] - P_[p];
             double lo = 0, hi = 1;
@@ -420,20 +427,20 @@ private:
         const auto near_edge = [&](const Vec3& y) { return (y - mid).squaredNorm() <= reach2; };
         if (!options_.search_candidates) {
             std::erase_if(out, [&](const Vec3& y) { return !near_edge(y); });
-            return out;
+            return;
         }
         // All candidates by quadric cost (the region's point first on ties): the linearised
         // region is conservative, and an end of the edge outside it may pass the exact test at a
         // lower cost — removing a split vertex exactly, for one.
         extra.insert(extra.begin(), out.begin(), out.end());
         extra.insert(extra.end(), {mid, P_[p], P_[q]});
-        std::vector<std::pair<double, int>> order;
+        std::vector<std::pair<double, int>>& order = order_;
+        order.clear();
         for (int i = 0; i < static_cast<int>(extra.size()); ++i) order.emplace_back(quadric(extra[i]), i);
         std::sort(order.begin(), order.end());
         out.clear();
         for (const auto& [cost, i] : order)
             if (near_edge(extra[i]) && std::find(out.begin(), out.end(), extra[i]) == out.end()) out.push_back(extra[i]);
-        return out;
     }
 
     // The lower bound the queue is keyed on: the quadric at the unconstrained placement.
@@ -490,7 +497,8 @@ private:
     Verdict evaluate(int p, int q, Vec3& x, double& cost) {
         if (!topology_allows(p, q)) return Verdict::topology;
         const Quadric quadric = quadric_[p] + quadric_[q];
-        const std::vector<Vec3> options = placements(p, q, quadric);
+        placements(p, q, quadric);
+        const std::vector<Vec3>& options = placements_;
         if (options.empty()) return Verdict::not_delaunay;
         // The reason reported: the bound, if it alone refused some candidate (the collapse was
         // allowable otherwise), else the first candidate's.
@@ -544,7 +552,8 @@ private:
         P_[p] = x;
         quadric_[p] = quadric_[p] + quadric_[q];
         ++version_[p];
-        const std::vector<int> ring = neighbours(p);
+        neighbours(p, ring_);
+        const std::vector<int>& ring = ring_;
         for (int a : ring) push(std::min(p, a), std::max(p, a));
         // Collapses refused next to the changed star may be allowed now: retried at once (they
         // keep the greedy order), a few times; after that they wait for the next round.
@@ -689,6 +698,10 @@ private:
     std::vector<int> shared_;
     std::vector<StarFace> star_;
     std::vector<HalfSpace> region_;
+    std::vector<int> violated_;  // of region_minimum
+    std::vector<Vec3> placements_, extra_;
+    std::vector<std::pair<double, int>> order_;  // of placements
+    std::vector<int> ring_;  // neighbours of a vertex
     std::vector<unsigned> mark_;  // vertex marks of the link condition, compared with stamp_
     unsigned stamp_ = 0;
     // Error bound.
@@ -763,7 +776,13 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     require_indices_in_range(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
     const MeshInfo info = validate(mesh, edges);
-    require_oriented_manifold(info, "decimate");
+    require_manifold(info, "decimate");
+    if (info.orientation_conflicts > 0)
+        throw InvalidMeshError("decimate: the faces are not consistently oriented (" +
+                               std::to_string(info.orientation_conflicts) + " edges); run sdmesh repair");
+    if (info.zero_area_faces > 0)
+        throw InvalidMeshError("decimate: face " + std::to_string(info.first_zero_area_face) + " has zero area (" +
+                               std::to_string(info.zero_area_faces) + " such faces)");
     const CertifyOptions certify_options{.boundary = options.boundary, .tolerance = options.tolerance};
     const long long input_vertices = info.vertices;
     const long long target = options.target_vertices > 0
