@@ -14,7 +14,7 @@ studies=(robustness accuracy wardetzky negative_dual geodesics)
 start=$SECONDS
 
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build" --parallel "$(nproc)" --target conversion_table "${studies[@]}"
+cmake --build "$build" --parallel "$(nproc)" --target conversion_table decimation_table "${studies[@]}"
 mkdir -p "$out"
 
 step() {  # step NAME COMMAND...: runs the command and prints its wall time
@@ -27,6 +27,7 @@ step() {  # step NAME COMMAND...: runs the command and prints its wall time
 step conversion_table "$build/experiments/conversion_table" --out "$out"
 step conversion_table_tables "$python" experiments/conversion_table/make_table.py "$out/conversion_table.csv"
 step conversion_table_plot "$python" experiments/conversion_table/plot.py "$out"
+step decimation_table "$build/experiments/decimation_table" --out "$out"
 for study in "${studies[@]}"; do
   step "$study" "$build/experiments/$study" --out "$out"
   step "${study}_plot" "$python" "experiments/$study/plot.py" "$out"
