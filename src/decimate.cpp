@@ -75,6 +75,10 @@ struct StarFace {
     int w = -1;          // its vertex opposite a-b
 };
 
+// A boundary edge's plane weighs as much as this many face planes, so that the outline holds
+// (with 1, mushroom's Hausdorff at 20 % was 1.56x the reference, with 4 0.85x).
+constexpr double kBoundaryPlaneWeight = 4;
+
 class Decimator {
 public:
     Decimator(const TriangleMesh& mesh, const EdgeTable& edges, const DecimateOptions& options)
@@ -91,10 +95,12 @@ public:
                 corner_[f][k] = mesh.F(f, k);
                 vertex_faces_[mesh.F(f, k)].push_back(f);
             }
+            // Every face's plane weighs the same: weighted by area, the small faces of thin
+            // features (and those the conversion adds) were cheap to collapse away (boot: Hausdorff
+            // 1.69x the reference at 20 %, 1.39x unweighted).
             const Vec3 normal = face_normal(f);
-            const double area = 0.5 * normal.norm();
-            if (area > 0)
-                for (int k = 0; k < 3; ++k) quadric_[corner_[f][k]].add_plane(normal.normalized(), P_[corner_[f][0]], area);
+            if (normal.norm() > 0)
+                for (int k = 0; k < 3; ++k) quadric_[corner_[f][k]].add_plane(normal.normalized(), P_[corner_[f][0]], 1);
         }
         twin_.assign(3 * static_cast<size_t>(nf), -1);
         for (int e = 0; e < edges.num_edges(); ++e)
@@ -112,7 +118,7 @@ public:
             const Vec3 along = P_[b] - P_[a];
             const Vec3 across = along.cross(face_normal(f)).normalized();
             if (across.allFinite())
-                for (int v : {a, b}) quadric_[v].add_plane(across, P_[a], along.squaredNorm());
+                for (int v : {a, b}) quadric_[v].add_plane(across, P_[a], kBoundaryPlaneWeight);
         }
         alive_.assign(static_cast<size_t>(nv), 0);
         for (int v = 0; v < nv; ++v) alive_[v] = !vertex_faces_[v].empty();
