@@ -67,10 +67,16 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     const int num_vertices = mesh.num_vertices();
     const double tol = options.tolerance;
 
-    // Positions packed per vertex: the loops below read them in random order.
+    // Positions packed per vertex (the loops below read them in random order) and scaled by a
+    // power of two that brings the largest coordinate near 1: exact in floating point, so the
+    // verdicts are those of the input, while squared lengths of coordinates near the ends of the
+    // double range (1e300, 1e-300) neither overflow nor underflow. Dual areas are scaled back.
+    const double largest = mesh.V.size() > 0 ? mesh.V.cwiseAbs().maxCoeff() : 0.0;
+    const int exponent = largest > 0 ? std::ilogb(largest) : 0;
+    const double scale = std::ldexp(1.0, -exponent);
     std::vector<Eigen::Vector3d> P(num_vertices);
     detail::prefault(P);
-    for (int v = 0; v < num_vertices; ++v) P[v] = mesh.V.row(v).transpose();
+    for (int v = 0; v < num_vertices; ++v) P[v] = scale * mesh.V.row(v).transpose();
 
     // Per face, in one cache line: 4·area, the cosine numerators of the three corners and the
     // circumsphere. Side lengths come from positions, so both faces of an edge see the same bits.
@@ -173,6 +179,7 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     for (int v = 0; v < num_vertices; ++v)
         if (dual_magnitude[v] > 0 || !std::isfinite(dual_magnitude[v]))
             cert.negative_dual_cells += !(cert.dual_area[v] >= -tol * dual_magnitude[v]);
+    cert.dual_area *= std::ldexp(1.0, 2 * exponent);  // back to the input's units (may be ±inf or 0)
 
     cert.repeated_index_faces = 0;
     for (int f = 0; f < num_faces; ++f) cert.repeated_index_faces += has_repeated_index(F, f);

@@ -112,7 +112,8 @@ TEST(Certificate, NegativeDualCellIsReported) {
 TEST(Certificate, VerdictsAreScaleInvariant) {
     for (const TriangleMesh& base : {make_grid(6, 5, 1.0, 1.0, 1.7), test::make_negative_dual_fan(), make_icosphere(2)}) {
         const DelaunayCertificate reference = certify(base);
-        for (double scale : {1e8, 1e-8}) {
+        // Also near the ends of the double range, where squared lengths leave it.
+        for (double scale : {1e8, 1e-8, 1e300, 1e-300}) {
             TriangleMesh scaled = base;
             scaled.V *= scale;
             const DelaunayCertificate cert = certify(scaled);
@@ -122,6 +123,20 @@ TEST(Certificate, VerdictsAreScaleInvariant) {
             EXPECT_EQ(cert.gabriel_violations, reference.gabriel_violations);
             EXPECT_EQ(cert.self_delaunay, reference.self_delaunay);
             EXPECT_NEAR(cert.min_delaunay_margin, reference.min_delaunay_margin, 1e-13);
+        }
+    }
+}
+
+TEST(Certificate, PowerOfTwoScalingChangesNoBit) {
+    const TriangleMesh base = test::make_negative_dual_fan();
+    const DelaunayCertificate reference = certify(base);
+    for (const int exponent : {-1000, -20, 20, 1000}) {
+        TriangleMesh scaled = base;
+        scaled.V *= std::ldexp(1.0, exponent);
+        const DelaunayCertificate cert = certify(scaled);
+        EXPECT_EQ(cert.edge_margin, reference.edge_margin) << exponent;
+        if (std::abs(exponent) < 500) {  // dual areas scale by the square, within the double range
+            EXPECT_EQ(cert.dual_area, std::ldexp(1.0, 2 * exponent) * reference.dual_area);
         }
     }
 }
