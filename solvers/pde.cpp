@@ -154,7 +154,7 @@ HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& opti
       neumann_heat_(L_, M_, time_),
       poisson_(L_, M_) {
     const std::vector<int> boundary = boundary_vertices(t);
-    if (options.average_boundary_conditions && !boundary.empty()) {
+    if (options.average_boundary_conditions && !boundary.empty() && boundary.size() < size_t(t.num_vertices)) {
         dirichlet_heat_.emplace(L_, M_, time_, boundary);
         report_.boundary_vertices = static_cast<int>(boundary.size());
     }

@@ -275,15 +275,12 @@ inline std::vector<BadMesh> bad_meshes() {
 
     // clang-format off
     // Exit codes: 0 ok, 1 not self-Delaunay, 6 invalid mesh, 7 invalid argument, 8 numerical error.
-    // The 8s of geodesic on meshes without an interior vertex (single_triangle, bowtie_vertex,
-    // moebius_strip) are a solver bug reported to the lead: the heat method's Dirichlet system on
-    // the interior vertices is 0×0 there (solvers/pde.cpp). Unreferenced vertices have no mass,
-    // so the solvers that factor M refuse them (8).
+    // Unreferenced vertices have no mass, so the solvers that factor M refuse them (8).
     //                                       info check repair convert operators intrinsic eigs geodesic poisson heat
     return {
         {"no_faces", make_mesh({{0, 0, 0}, {1, 0, 0}}, {}),          {0, 0, 0, 0, 0, 0, 8, 7, 8, 8}, false},
         {"single_triangle", make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.8, 0}}, {{0, 1, 2}}),
-                                                                     {0, 0, 0, 0, 0, 0, 0, 8, 0, 0}, true},
+                                                                     {0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, true},
         {"two_components", disjoint_union(tet, tet, 10),             {0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, true},
         {"isolated_vertices", isolated,                              {0, 0, 0, 0, 0, 0, 8, 8, 0, 8}, false},
         {"repeated_index", make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 1, 1}}),
@@ -299,9 +296,9 @@ inline std::vector<BadMesh> bad_meshes() {
                                        {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}),
                                                                      {0, 1, 0, 6, 6, 6, 6, 6, 6, 6}, true},
         {"bowtie_vertex", make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}},
-                                    {{0, 1, 2}, {0, 3, 4}}),         {0, 1, 0, 6, 0, 0, 0, 8, 0, 0}, true},
+                                    {{0, 1, 2}, {0, 3, 4}}),         {0, 1, 0, 6, 0, 0, 0, 0, 0, 0}, true},
         {"inconsistent_orientation", flipped_face,                   {0, 0, 0, 6, 0, 6, 0, 0, 0, 0}, true},
-        {"moebius_strip", moebius_strip(8),                          {0, 1, 0, 6, 0, 6, 0, 8, 0, 0}, true},
+        {"moebius_strip", moebius_strip(8),                          {0, 1, 0, 6, 0, 6, 0, 0, 0, 0}, true},
         {"nan_coordinate", with_vertex(nan),                         {0, 6, 0, 6, 6, 6, 6, 6, 6, 6}, true},
         {"infinite_coordinate", with_vertex(inf),                    {0, 6, 0, 6, 6, 6, 6, 6, 6, 6}, true},
         {"huge_coordinates", scaled(1e300),                          {0, 0, 0, 6, 6, 6, 6, 6, 6, 6}, false},

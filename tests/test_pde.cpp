@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_run.hpp"
+#include "meshes.hpp"
 #include "sdmesh/eigen.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/intrinsic.hpp"
@@ -299,6 +300,18 @@ TEST(Geodesics, PlanarDistanceIsEuclideanOnExtrinsicAndIntrinsicMeshes) {
         const Triangulation idt = intrinsic_delaunay(Triangulation::from_mesh(sheared)).triangulation;
         EXPECT_LT(mean_relative_error(heat_geodesic_distance(idt, {source}), sheared_exact), 2 * error) << "n = " << n;
     }
+}
+
+TEST(Geodesics, MeshWithoutInteriorVertexUsesTheNeumannSolutionAlone) {
+    // A single equilateral triangle: the heat method's one unit direction (away from the source,
+    // across the face) integrates to the height √3/2 at both other corners.
+    const TriangleMesh triangle = test::make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, std::sqrt(0.75), 0}}, {{0, 1, 2}});
+    const HeatGeodesics geodesics(Triangulation::from_mesh(triangle));
+    EXPECT_EQ(geodesics.report().boundary_vertices, 0);
+    const Eigen::VectorXd d = geodesics.distance({0});
+    EXPECT_EQ(d[0], 0);
+    EXPECT_NEAR(d[1], std::sqrt(0.75), 1e-12);
+    EXPECT_NEAR(d[2], std::sqrt(0.75), 1e-12);
 }
 
 TEST(Geodesics, ComponentsWithoutASourceAreInfinitelyFar) {

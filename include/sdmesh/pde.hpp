@@ -86,7 +86,8 @@ struct GeodesicOptions {
     /// Mass matrix of the heat step.
     MassType mass = MassType::barycentric;
     /// On a mesh with boundary, diffuse heat as the mean of the Neumann and the (zero) Dirichlet
-    /// solutions, as Crane et al. recommend; false: Neumann only.
+    /// solutions, as Crane et al. recommend; false: Neumann only. Without an interior vertex the
+    /// Dirichlet solution is 0 everywhere, so such a mesh gets the Neumann solution alone.
     bool average_boundary_conditions = true;
 };
 
