@@ -81,8 +81,8 @@ void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& optio
         if (!(mass[i] > 0) || !std::isfinite(mass[i]))
             throw NumericalError("eigenpairs: the mass matrix is not positive definite: M(" + std::to_string(i) +
                                  ", " + std::to_string(i) + ") = " + std::to_string(mass[i]) +
-                                 " (a negative circumcentric dual cell? convert the mesh to self-Delaunay "
-                                 "or use another mass)");
+                                 " (a vertex in no face, which sdmesh repair drops, or a negative "
+                                 "circumcentric dual cell, which conversion to self-Delaunay removes)");
 }
 
 }  // namespace
