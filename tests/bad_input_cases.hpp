@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,9 @@ struct BadFile {
     std::string bytes;
     int exit_code;     ///< 5 malformed, 4 unsupported (the reader's error, whatever the command)
 };
+
+// Test parameters print as their file name (not as raw bytes) in test listings.
+inline void PrintTo(const BadFile& file, std::ostream* out) { *out << file.name; }
 
 // ---- bytes of each format --------------------------------------------------------------------
 

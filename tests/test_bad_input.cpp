@@ -139,6 +139,8 @@ struct MeshInFormat {
     bool run_commands;  ///< the commands run on one format per mesh, a different one from mesh to mesh
 };
 
+void PrintTo(const MeshInFormat& mesh, std::ostream* out) { *out << mesh.file_name; }
+
 // Every mesh in every format that can hold it. The library checks run on each file; the commands
 // (a process each, so the slow part) on one format per mesh, taken in turn: each file is read back
 // to the same mesh, and the commands see nothing but the mesh.
