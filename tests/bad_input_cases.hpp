@@ -208,7 +208,7 @@ inline std::vector<BadFile> broken_files() {
 
 /// Exit codes of the mesh-reading commands, in the order of kCommands in test_bad_input.cpp.
 struct CommandCodes {
-    int info, check, repair, convert, operators, intrinsic, eigs, geodesic, poisson, heat;
+    int info, check, repair, convert, operators, intrinsic, eigs, geodesic, poisson, heat, decimate;
 };
 
 /// A mesh with one defect (or none: the well-formed oddities), written in each format that can
@@ -280,33 +280,33 @@ inline std::vector<BadMesh> bad_meshes() {
     // clang-format off
     // Exit codes: 0 ok, 1 not self-Delaunay, 6 invalid mesh, 7 invalid argument, 8 numerical error.
     // Unreferenced vertices have no mass, so the solvers that factor M refuse them (8).
-    //                                       info check repair convert operators intrinsic eigs geodesic poisson heat
+    //                                       info check repair convert operators intrinsic eigs geodesic poisson heat decimate
     return {
-        {"no_faces", make_mesh({{0, 0, 0}, {1, 0, 0}}, {}),          {0, 0, 0, 0, 0, 0, 8, 7, 8, 8}, false},
+        {"no_faces", make_mesh({{0, 0, 0}, {1, 0, 0}}, {}),          {0, 0, 0, 0, 0, 0, 8, 7, 8, 8, 0}, false},
         {"single_triangle", make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.8, 0}}, {{0, 1, 2}}),
-                                                                     {0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, true},
-        {"two_components", disjoint_union(tet, tet, 10),             {0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, true},
-        {"isolated_vertices", isolated,                              {0, 0, 0, 0, 0, 0, 8, 8, 0, 8}, false},
+                                                                     {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, true},
+        {"two_components", disjoint_union(tet, tet, 10),             {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, true},
+        {"isolated_vertices", isolated,                              {0, 0, 0, 0, 0, 0, 8, 8, 0, 8, 0}, false},
         {"repeated_index", make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 1, 1}}),
-                                                                     {0, 1, 0, 6, 6, 6, 6, 6, 6, 6}, true},
+                                                                     {0, 1, 0, 6, 6, 6, 6, 6, 6, 6, 6}, true},
         {"zero_area", make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}}),
-                                                                     {0, 1, 0, 6, 6, 6, 6, 6, 6, 6}, true},
+                                                                     {0, 1, 0, 6, 6, 6, 6, 6, 6, 6, 6}, true},
         // below the library's degeneracy tolerance: refused like a zero-area face
         {"needle", make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1e-9, 0}}, {{0, 1, 2}}),
-                                                                     {0, 1, 0, 6, 6, 6, 6, 6, 6, 6}, true},
+                                                                     {0, 1, 0, 6, 6, 6, 6, 6, 6, 6, 6}, true},
         {"duplicate_faces", make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 1, 2}}),
-                                                                     {0, 0, 0, 6, 0, 6, 0, 0, 0, 0}, true},
+                                                                     {0, 0, 0, 6, 0, 6, 0, 0, 0, 0, 6}, true},
         {"nonmanifold_edge", make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}},
                                        {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}),
-                                                                     {0, 1, 0, 6, 6, 6, 6, 6, 6, 6}, true},
+                                                                     {0, 1, 0, 6, 6, 6, 6, 6, 6, 6, 6}, true},
         {"bowtie_vertex", make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}},
-                                    {{0, 1, 2}, {0, 3, 4}}),         {0, 1, 0, 6, 0, 0, 0, 0, 0, 0}, true},
-        {"inconsistent_orientation", flipped_face,                   {0, 0, 0, 6, 0, 6, 0, 0, 0, 0}, true},
-        {"moebius_strip", moebius_strip(8),                          {0, 1, 0, 6, 0, 6, 0, 0, 0, 0}, true},
-        {"nan_coordinate", with_vertex(nan),                         {0, 6, 0, 6, 6, 6, 6, 6, 6, 6}, true},
-        {"infinite_coordinate", with_vertex(inf),                    {0, 6, 0, 6, 6, 6, 6, 6, 6, 6}, true},
-        {"huge_coordinates", scaled(1e300),                          {0, 0, 0, 6, 6, 6, 6, 6, 6, 6}, false},
-        {"tiny_coordinates", scaled(1e-300),                         {0, 0, 0, 6, 6, 6, 6, 6, 6, 6}, false},
+                                    {{0, 1, 2}, {0, 3, 4}}),         {0, 1, 0, 6, 0, 0, 0, 0, 0, 0, 6}, true},
+        {"inconsistent_orientation", flipped_face,                   {0, 0, 0, 6, 0, 6, 0, 0, 0, 0, 6}, true},
+        {"moebius_strip", moebius_strip(8),                          {0, 1, 0, 6, 0, 6, 0, 0, 0, 0, 6}, true},
+        {"nan_coordinate", with_vertex(nan),                         {0, 6, 0, 6, 6, 6, 6, 6, 6, 6, 6}, true},
+        {"infinite_coordinate", with_vertex(inf),                    {0, 6, 0, 6, 6, 6, 6, 6, 6, 6, 6}, true},
+        {"huge_coordinates", scaled(1e300),                          {0, 0, 0, 6, 6, 6, 6, 6, 6, 6, 6}, false},
+        {"tiny_coordinates", scaled(1e-300),                         {0, 0, 0, 6, 6, 6, 6, 6, 6, 6, 6}, false},
     };
     // clang-format on
 }

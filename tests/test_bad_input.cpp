@@ -52,6 +52,7 @@ constexpr Command kCommands[] = {
     {"geodesic", "geodesic MESH --source 0 --out DIR/geodesic.ply", &CommandCodes::geodesic},
     {"poisson", "poisson MESH --f DIR/f.txt --out DIR/poisson.ply", &CommandCodes::poisson},
     {"heat", "heat MESH --source 0 --time 0.1 --out DIR/heat.ply", &CommandCodes::heat},
+    {"decimate", "decimate MESH DIR/decimated.obj --target-ratio 0.5 --convert-first", &CommandCodes::decimate},
 };
 
 std::string replace_all(std::string text, const std::string& from, const std::string& to) {
