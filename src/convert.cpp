@@ -61,12 +61,18 @@ public:
             push(e);
         }
         const long long budget = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
+        const long long flip_budget =
+            options_.max_flips > 0 ? options_.max_flips : 100LL * mesh_.num_edges() + 1'000'000;
         auto last_progress = Clock::now();
         while (true) {
             const int e = pop();
             if (e < 0) break;
             if (is_delaunay(e)) continue;
             if (is_flat(e, flat_angle_) && is_flippable(e)) {
+                if (report.flips >= flip_budget) {
+                    report.status = ConvertStatus::budget_exhausted;
+                    break;
+                }
                 flip(e);
                 ++report.flips;
             } else if (options_.method == ConvertMethod::flip) {
@@ -329,6 +335,7 @@ void check_options(const ConvertOptions& o) {
         throw InvalidArgumentError("convert: max_dihedral_deg must be in [0, 180]");
     if (!(o.coplanar_tolerance >= 0)) throw InvalidArgumentError("convert: coplanar_tolerance must be >= 0");
     if (o.max_vertices < 0) throw InvalidArgumentError("convert: max_vertices must be >= 0");
+    if (o.max_flips < 0) throw InvalidArgumentError("convert: max_flips must be >= 0");
 }
 
 }  // namespace

@@ -206,6 +206,22 @@ TEST(ConvertMethods, BudgetTurnsIntoAStatus) {
     EXPECT_TRUE(validate(result.mesh).manifold());
 }
 
+// Found by fuzz_pipeline: coordinates spanning twelve orders of magnitude make the hybrid
+// method's flips cycle in rounding (26 million flips in 10 s before the flip budget).
+TEST(ConvertMethods, FlipBudgetStopsACycleOnNearlyDegenerateInput) {
+    const TriangleMesh sliver =
+        make_mesh({{1.7142084551807596e+29, 7.0963984940413558e+22, 9.2215416197638956e-39},
+                   {5.1766630420409794e+22, 3.0027037082335752e-33, 1.8087157539161875e+22},
+                   {4.1538374868278621e+34, 7.5030819292227174e+28, 3.5118726900087507e+25}},
+                  {{0, 1, 2}});
+    const ConversionResult result =
+        convert(sliver, {.method = ConvertMethod::hybrid, .max_vertices = 2000, .max_flips = 100000});
+    EXPECT_EQ(result.report.status, ConvertStatus::budget_exhausted);
+    EXPECT_LE(result.report.flips, 100000);
+    EXPECT_TRUE(validate(result.mesh).manifold());
+    EXPECT_THROW(convert(sliver, {.max_flips = -1}), InvalidArgumentError);
+}
+
 TEST(ConvertMethods, RejectsInvalidInput) {
     const TriangleMesh fin = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}},
                                        {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});

@@ -39,7 +39,8 @@ enum class SplitRule {
 
 enum class ConvertStatus {
     certified,         ///< the output is self-Delaunay
-    budget_exhausted,  ///< max_vertices was reached first; the output is valid but not certified
+    budget_exhausted,  ///< max_vertices or max_flips was reached first; the output is valid but
+                       ///< not certified
     not_certified,     ///< flip method: unflippable non-Delaunay edges remain
 };
 
@@ -56,6 +57,10 @@ struct ConvertOptions {
     /// Stop with status budget_exhausted when the mesh reaches this many vertices;
     /// 0 = 10·|V| + 100000.
     long long max_vertices = 0;
+    /// Stop with status budget_exhausted after this many flips; 0 = 100·|E| + 1000000. Lawson's
+    /// flips terminate in exact arithmetic, but on nearly degenerate input (coordinates spanning
+    /// many orders of magnitude) rounding can make the LD verdicts cycle.
+    long long max_flips = 0;
     /// Print a progress line to stderr about every second.
     bool progress = false;
     /// Compute the two-sided sampled Hausdorff distance output <-> input (0 for split).
