@@ -8,7 +8,8 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config zlib1g-dev libeigen3-dev libspectra-dev libsuitesparse-dev
           libopenmesh-dev libgtest-dev libbenchmark-dev libomp-dev
-          python3-dev pybind11-dev python3-numpy python3-scipy)
+          python3-dev pybind11-dev python3-numpy python3-scipy
+          libopenblas0-openmp)  # CHOLMOD's BLAS: 5–10× faster supernodal kernels than reference BLAS
 if [ "${1:-}" = "--tests" ]; then
   packages+=(python3-pytest python3-matplotlib clang libclang-rt-dev)
 fi
