@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -46,6 +47,20 @@ TEST_F(Cli, CheckJsonHasTheDocumentedKeys) {
         EXPECT_NE(r.out.find(std::string(1, '"').append(key).append("\": ")), std::string::npos) << key;
     EXPECT_NE(r.out.find("\"faces\": 3674"), std::string::npos);
     EXPECT_NE(r.out.find("\"self_delaunay\": false"), std::string::npos);
+}
+
+TEST_F(Cli, EveryCommandPrintsItsOwnHelp) {
+    const std::vector<std::string> commands = {"info",      "check",     "repair", "convert",  "decimate", "operators",
+                                               "intrinsic", "eigs",      "geodesic", "poisson", "heat"};
+    for (const std::string& command : commands) {
+        const CliRun r = run_cli(command + " --help");
+        EXPECT_EQ(r.code, 0) << command << ": " << r.err;
+        EXPECT_EQ(r.out.rfind("usage: sdmesh " + command + " ", 0), 0u) << r.out;
+        EXPECT_NE(r.out.find("Exit codes:"), std::string::npos) << command;
+        for (const std::string& other : commands)  // no other command's entry
+            EXPECT_EQ(r.out.find("\n  " + other + " "), std::string::npos) << command << " shows " << other;
+    }
+    EXPECT_NE(run_cli("eigs -h").out.find("--tolerance T"), std::string::npos);
 }
 
 TEST_F(Cli, SelfDelaunayMeshExitsZero) {

@@ -1,5 +1,6 @@
 // The `sdmesh` command-line tool: dispatches to subcommands and maps exceptions to exit codes.
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -94,6 +95,28 @@ void clean_up_on_interruption() {
     for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(signal_number, &action, nullptr);
 }
 
+// `sdmesh COMMAND --help`: the command's entry of kHelpText (its first line starts with two
+// spaces and the name, continuation lines with more spaces), then the notes common to all.
+std::string command_help(std::string_view name) {
+    std::string help = "usage: sdmesh ";
+    const std::string_view notes = kHelpText.substr(kHelpText.find("\nMesh files:"));
+    bool inside = false;
+    for (std::size_t at = 0; at < kHelpText.size();) {
+        const std::size_t end = kHelpText.find('\n', at) + 1;
+        const std::string_view line = kHelpText.substr(at, end - at);
+        const bool entry_start = line.size() > 2 && line.substr(0, 2) == "  " && line[2] != ' ';
+        if (entry_start) inside = line.substr(2, name.size() + 1) == std::string(name) + " ";
+        else if (line.substr(0, 2) != "  ") inside = false;
+        if (inside) help += entry_start ? line.substr(2) : line;
+        at = end;
+    }
+    return help.append(notes);
+}
+
+bool asks_for_help(const std::vector<std::string>& words) {
+    return std::any_of(words.begin() + 1, words.end(), [](const std::string& w) { return w == "--help" || w == "-h"; });
+}
+
 int fail(int code, const std::string& message) {
     std::cerr << "sdmesh: " << message << '\n';
     return code;
@@ -110,6 +133,10 @@ int main(int argc, char** argv) {
     }
     for (const Command& command : kCommands) {
         if (words[0] != command.name) continue;
+        if (asks_for_help(words)) {
+            std::cout << command_help(command.name);
+            return kSuccess;
+        }
         Args args({words.begin() + 1, words.end()}, "sdmesh " + std::string(command.name));
         try {
             return command.run(args);
