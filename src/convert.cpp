@@ -23,6 +23,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
+// Pieces of an input edge shorter than this fraction of it, with one end at an input vertex, are
+// split on Ruppert's shells (see split_distance).
+constexpr double kShellPieceFraction = 0.25;
 
 // The hinge of an edge seen from halfedge h = (a -> b) with apex r, and its twin's apex s
 // (s = -1 on the boundary).
@@ -43,6 +46,11 @@ public:
         for (int v = 0; v < mesh.num_vertices(); ++v) P_[v] = mesh.V.row(v).transpose();
         input_edge_.resize(static_cast<size_t>(mesh_.num_edges()));
         for (int e = 0; e < mesh_.num_edges(); ++e) input_edge_[e] = e;
+        input_length_.resize(static_cast<size_t>(mesh_.num_edges()));
+        for (int e = 0; e < mesh_.num_edges(); ++e) {
+            const int h = mesh_.halfedge(e);
+            input_length_[e] = distance(P_[mesh_.tail(h)], P_[mesh_.head(h)]);
+        }
         queued_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
         // An empty mesh has no bounding box (and no edge to split).
         const double diagonal =
@@ -161,10 +169,15 @@ private:
 
     // Distance from a at which to split the edge a-b (length l) of hinge k.
     double split_distance(const Hinge& k, double l) const {
-        // Pieces that end at an input vertex follow the shells even under the interval rule: two
-        // input edges meeting at a small angle would otherwise split each other ever finer.
-        if (options_.split_rule == SplitRule::shell || (k.a < input_vertices_) != (k.b < input_vertices_))
-            return shell_distance(k.a, k.b, l);
+        // Short pieces that end at an input vertex follow the shells even under the interval
+        // rule: two input edges meeting at a small angle would otherwise split each other ever
+        // finer. Longer ones take the interval rule, which adds fewer vertices (a quarter of the
+        // input edge: measured on the corpus, shorter thresholds gain nothing more).
+        const int on_input_edge = input_edge_[mesh_.edge(k.h)];
+        const bool near_input_vertex =
+            (k.a < input_vertices_) != (k.b < input_vertices_) &&
+            (on_input_edge < 0 || l < kShellPieceFraction * input_length_[on_input_edge]);
+        if (options_.split_rule == SplitRule::shell || near_input_vertex) return shell_distance(k.a, k.b, l);
         // Hard constraint: I0, where both halves are locally Delaunay, kept away from the
         // endpoints so that piece lengths stay bounded below.
         // The interval is shrunk by a little, so that no half ends up exactly co-circular.
@@ -174,27 +187,32 @@ private:
         hard.hi = std::min(hard.hi - inset, 0.9 * l);
         if (hard.lo > hard.hi) return 0.5 * l;
         // Soft constraints: each outer side of the hinge stays locally Delaunay on a half-line
-        // of positions. Keep as many as possible (the largest feasible subset, first found).
-        std::vector<Interval> soft;
+        // of positions. Keep the feasible subset of most weight (first found): a physical side
+        // that breaks needs a new vertex, a flat one only a flip, so physical sides weigh double.
+        Interval soft[4];
+        int weight[4], sides = 0;
         for (const int h : {k.h, mesh_.twin(k.h)}) {
             if (h < 0) continue;
             const int from_a = h == k.h ? HalfedgeMesh::prev(h) : HalfedgeMesh::next(h);  // side a-apex
             const int from_b = h == k.h ? HalfedgeMesh::next(h) : HalfedgeMesh::prev(h);  // side b-apex
-            soft.push_back(outer_side_interval(from_a, k.a, k.b, l, false));
-            soft.push_back(outer_side_interval(from_b, k.b, k.a, l, true));
+            soft[sides] = outer_side_interval(from_a, k.a, k.b, l, false);
+            soft[sides + 1] = outer_side_interval(from_b, k.b, k.a, l, true);
+            weight[sides] = is_flat(mesh_.edge(from_a), flat_angle_) ? 1 : 2;
+            weight[sides + 1] = is_flat(mesh_.edge(from_b), flat_angle_) ? 1 : 2;
+            sides += 2;
         }
         Interval best = hard;
-        int best_count = -1;
-        for (unsigned subset = 0; subset < (1u << soft.size()); ++subset) {
+        int best_weight = -1;
+        for (unsigned subset = 0; subset < (1u << sides); ++subset) {
             Interval candidate = hard;
-            int count = 0;
-            for (size_t i = 0; i < soft.size(); ++i)
+            int total = 0;
+            for (int i = 0; i < sides; ++i)
                 if (subset >> i & 1u) {
                     candidate.lo = std::max(candidate.lo, soft[i].lo);
                     candidate.hi = std::min(candidate.hi, soft[i].hi);
-                    ++count;
+                    total += weight[i];
                 }
-            if (candidate.lo <= candidate.hi && count > best_count) best = candidate, best_count = count;
+            if (candidate.lo <= candidate.hi && total > best_weight) best = candidate, best_weight = total;
         }
         // Prefer the foot of the perpendicular from the apex with the wider angle: the spoke is
         // then perpendicular to the edge; else the middle of the chosen interval.
@@ -323,6 +341,7 @@ private:
     double shell_unit_ = 1;
     std::vector<Eigen::Vector3d> P_;
     std::vector<int> input_edge_;  // the input edge an edge lies on, -1 inside an input face
+    std::vector<double> input_length_;  // by input edge
     std::vector<char> queued_;
     std::vector<int> flat_queue_;
     std::priority_queue<std::pair<double, int>> physical_queue_;

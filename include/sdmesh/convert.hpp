@@ -29,8 +29,10 @@ enum class ConvertMethod { flip, split, hybrid };
 /// Where a non-Delaunay edge is split (ALGORITHMS.md §3).
 enum class SplitRule {
     /// Inside the interval that keeps both halves locally Delaunay (Liu et al. 2015), keeping as
-    /// many of the four outer edges locally Delaunay as possible; pieces that end at an input
-    /// vertex follow the shells below, which stops small input angles from cascading.
+    /// many of the four outer edges locally Delaunay as possible (non-flat ones first: they would
+    /// need a vertex, flat ones only a flip); pieces shorter than a quarter of their input edge
+    /// that end at an input vertex follow the shells below, which stops small input angles from
+    /// cascading.
     interval,
     /// On concentric shells around input vertices (Dyer's rule, after Ruppert): at a power of
     /// two of a fixed unit from the input endpoint, within [l/3, 2l/3); the midpoint otherwise.
