@@ -154,20 +154,23 @@ HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& opti
 
 HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& options,
                              std::chrono::steady_clock::time_point start)
+    : HeatGeodesics(t, options, start, cotan_laplacian(t), mass_matrix(t, options.mass)) {}
+
+// METIS, not CHOLMOD's default: on meshes AMD's fill is always high enough that the default
+// computes both orderings, and AMD's is then discarded.
+HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& options,
+                             std::chrono::steady_clock::time_point start, const Sparse& L, const Sparse& M)
     : num_vertices_(t.num_vertices),
-      L_(cotan_laplacian(t)),
-      M_(mass_matrix(t, options.mass)),
-      gradient_(gradient(t)),
       divergence_(divergence(t)),
       time_(heat_time(t, options)),
-      neumann_heat_(L_, M_, time_),
-      poisson_(L_, M_) {
+      neumann_heat_(L, M, time_, {}, {.ordering = CholeskyOrdering::metis}),
+      poisson_(L, M, {}, {.same_ordering_as = &neumann_heat_.factorization()}) {
     const std::vector<int> boundary = boundary_vertices(t);
     if (options.average_boundary_conditions && !boundary.empty() && boundary.size() < size_t(t.num_vertices)) {
-        dirichlet_heat_.emplace(L_, M_, time_, boundary);
+        dirichlet_heat_.emplace(L, M, time_, boundary, CholeskyOptions{.same_ordering_as = &neumann_heat_.factorization()});
         report_.boundary_vertices = static_cast<int>(boundary.size());
     }
-    component_ = detail::connected_components(L_, component_count_);
+    component_ = detail::connected_components(L, component_count_);
     report_.time = time_;
     report_.precompute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -184,12 +187,13 @@ Eigen::VectorXd HeatGeodesics::distance(const std::vector<int>& sources) const {
     Eigen::VectorXd u = neumann_heat_.step(u0);
     if (dirichlet_heat_) u = 0.5 * (u + dirichlet_heat_->step(u0));
 
-    // X = −∇u/|∇u| per face; faces where u is flat (to the last bit) get no direction.
-    Eigen::VectorXd X = gradient_ * u;
+    // X = −∇u/|∇u| per face, from divᵀu = −area·∇u; faces where u is flat (to the last bit) get
+    // no direction.
+    Eigen::VectorXd X = divergence_.transpose() * u;
     for (Eigen::Index f = 0; f < X.size() / 2; ++f) {
         auto g = X.segment<2>(2 * f);
         const double norm = g.norm();
-        g = norm > 0 ? Eigen::Vector2d(-g / norm) : Eigen::Vector2d::Zero();
+        g = norm > 0 ? Eigen::Vector2d(g / norm) : Eigen::Vector2d::Zero();
     }
     // ∇φ = X in the weak sense: div ∇φ = −Lφ = div X.
     Eigen::VectorXd phi = poisson_.solve(-(divergence_ * X));

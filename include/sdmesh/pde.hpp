@@ -114,7 +114,8 @@ struct GeodesicReport {
 /// hence on extrinsic meshes, converted self-Delaunay meshes and intrinsic triangulations alike:
 /// heat u from the sources for time t, X = −∇u/|∇u| per face, then L φ = −div X (Neumann), and φ
 /// shifted so that its mean over the sources of each component is 0. Factorizations are kept,
-/// so each further query costs three back-substitutions.
+/// so each further query costs three back-substitutions. The heat matrix gets a METIS ordering,
+/// which the other factorizations (same pattern) reuse.
 class HeatGeodesics {
 public:
     /// \throws InvalidMeshError as the operators; InvalidArgumentError options.time <= 0;
@@ -130,9 +131,11 @@ public:
 
 private:
     HeatGeodesics(const Triangulation& t, const GeodesicOptions& options, std::chrono::steady_clock::time_point start);
+    HeatGeodesics(const Triangulation& t, const GeodesicOptions& options, std::chrono::steady_clock::time_point start,
+                  const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M);
 
     int num_vertices_ = 0;
-    Eigen::SparseMatrix<double> L_, M_, gradient_, divergence_;
+    Eigen::SparseMatrix<double> divergence_;  // −Gᵀ·area: its transpose is −area·∇ per face
     double time_ = 0;
     HeatSolver neumann_heat_;
     std::optional<HeatSolver> dirichlet_heat_;  // with boundary and averaging only
