@@ -117,6 +117,10 @@ void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A, const Cholesk
             case CholeskyOrdering::amd: m.common.method[0].ordering = CHOLMOD_AMD; break;
             case CholeskyOrdering::metis: m.common.method[0].ordering = CHOLMOD_METIS; break;
             case CholeskyOrdering::nested_dissection: m.common.method[0].ordering = CHOLMOD_NESDIS; break;
+            case CholeskyOrdering::coarse_nested_dissection:
+                m.common.method[0].ordering = CHOLMOD_NESDIS;
+                m.common.method[0].nd_small = 20000;
+                break;
         }
         m.factor = cholmod_analyze(&a, &m.common);
     }

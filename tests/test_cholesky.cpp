@@ -69,7 +69,7 @@ TEST(Cholesky, EveryOrderingSolves) {
     const Eigen::SparseMatrix<double> A = grid_matrix(30, 0.1);
     const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1, 2);
     for (CholeskyOrdering ordering : {CholeskyOrdering::automatic, CholeskyOrdering::amd, CholeskyOrdering::metis,
-                                      CholeskyOrdering::nested_dissection}) {
+                                      CholeskyOrdering::nested_dissection, CholeskyOrdering::coarse_nested_dissection}) {
         const CholeskySolver solver(A, {.ordering = ordering});
         EXPECT_LT((A * solver.solve(b) - b).norm(), 1e-10 * b.norm()) << "ordering " << static_cast<int>(ordering);
     }

