@@ -156,14 +156,16 @@ HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& opti
                              std::chrono::steady_clock::time_point start)
     : HeatGeodesics(t, options, start, cotan_laplacian(t), mass_matrix(t, options.mass)) {}
 
-// METIS, not CHOLMOD's default: on meshes AMD's fill is always high enough that the default
-// computes both orderings, and AMD's is then discarded.
+// Not CHOLMOD's default ordering: on meshes AMD's fill is always high enough that the default
+// computes METIS's too and discards AMD's. Coarse nested dissection is ~40 % faster to compute
+// than METIS; its ~20 % more fill costs the factorizations little (igea: 6.9 s against 7.9 s
+// CPU for ordering and two factorizations).
 HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& options,
                              std::chrono::steady_clock::time_point start, const Sparse& L, const Sparse& M)
     : num_vertices_(t.num_vertices),
       divergence_(divergence(t)),
       time_(heat_time(t, options)),
-      neumann_heat_(L, M, time_, {}, {.ordering = CholeskyOrdering::metis}),
+      neumann_heat_(L, M, time_, {}, {.ordering = CholeskyOrdering::coarse_nested_dissection}),
       poisson_(L, M, {}, {.same_ordering_as = &neumann_heat_.factorization()}) {
     const std::vector<int> boundary = boundary_vertices(t);
     if (options.average_boundary_conditions && !boundary.empty() && boundary.size() < size_t(t.num_vertices)) {

@@ -114,8 +114,8 @@ struct GeodesicReport {
 /// hence on extrinsic meshes, converted self-Delaunay meshes and intrinsic triangulations alike:
 /// heat u from the sources for time t, X = −∇u/|∇u| per face, then L φ = −div X (Neumann), and φ
 /// shifted so that its mean over the sources of each component is 0. Factorizations are kept,
-/// so each further query costs three back-substitutions. The heat matrix gets a METIS ordering,
-/// which the other factorizations (same pattern) reuse.
+/// so each further query costs three back-substitutions. The heat matrix gets a coarse nested
+/// dissection ordering, which the other factorizations (same pattern) reuse.
 class HeatGeodesics {
 public:
     /// \throws InvalidMeshError as the operators; InvalidArgumentError options.time <= 0;
