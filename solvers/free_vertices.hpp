@@ -1,6 +1,7 @@
 #pragma once
 // Private to sdmesh::solvers: checking an (L, M) pair, splitting the vertices into fixed (Dirichlet) and free ones, so that
-// solves run on the free rows and columns, and the connected components seen by a Laplacian.
+// solves run on the free rows and columns (eigenpairs) or keep the matrix's pattern with the fixed
+// ones pinned (Poisson, heat), and the connected components seen by a Laplacian.
 
 #include <string_view>
 #include <vector>

@@ -6,11 +6,12 @@
 // Conventions: L is the positive semidefinite cotan Laplacian and M a mass matrix, both n x n
 // (operators.hpp, both triangles stored), so L u = M f is the weak form of −Δu = f.
 // Dirichlet vertices carry prescribed values; everywhere else the boundary condition is the
-// natural (Neumann) one. Dirichlet rows and columns are replaced by the identity's rather than
-// removed, so every matrix keeps the pattern of L (plus M) and the solvers of one mesh can share
-// a fill-reducing ordering (CholeskyOptions::same_ordering_as). A connected component of the mesh (of L's pattern) without a Dirichlet
+// natural (Neumann) one. A connected component of the mesh (of L's pattern) without a Dirichlet
 // vertex determines u only up to a constant: there the right-hand side is made compatible by
 // removing its component-wise mean, and the solution is the one with zero M-mean on the component.
+// Dirichlet rows and columns are replaced by the identity's rather than removed, so every matrix
+// keeps the pattern of L (plus M) and the solvers of one mesh can share a fill-reducing ordering
+// (CholeskyOptions::same_ordering_as).
 //
 //   sdmesh::PoissonSolver poisson(L, M, boundary);          // factor once
 //   Eigen::VectorXd u = poisson.solve(M * f, boundary_values);
