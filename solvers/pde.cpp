@@ -118,9 +118,7 @@ Eigen::VectorXd HeatSolver::step(const Eigen::VectorXd& u0, int steps) const {
     if (steps < 0) throw InvalidArgumentError("heat: steps must be >= 0, got " + std::to_string(steps));
     Eigen::VectorXd u = u0;
     for (int v : fixed_) u[v] = 0;
-    for (int s = 0; s < steps; ++s) {
-        u = solver_.solve(detail::pinned_rhs(M_ * u, fixed_, Sparse(), Eigen::VectorXd()));
-    }
+    for (int s = 0; s < steps; ++s) u = solver_.solve(detail::pinned_rhs(M_ * u, fixed_, Sparse(), Eigen::VectorXd()));
     return u;
 }
 
@@ -190,11 +188,12 @@ Eigen::VectorXd HeatGeodesics::distance(const std::vector<int>& sources) const {
     if (dirichlet_heat_) u = 0.5 * (u + dirichlet_heat_->step(u0));
 
     // X = −∇u/|∇u| per face, from divᵀu = −area·∇u; faces where u is flat (to the last bit) get
-    // no direction.
+    // no direction. Far from the sources u is ~1e-240 (igea): hypot, because the squares in
+    // norm() underflow to 0 there and left a third of igea's faces without a direction.
     Eigen::VectorXd X = divergence_.transpose() * u;
     for (Eigen::Index f = 0; f < X.size() / 2; ++f) {
         auto g = X.segment<2>(2 * f);
-        const double norm = g.norm();
+        const double norm = std::hypot(g[0], g[1]);
         g = norm > 0 ? Eigen::Vector2d(g / norm) : Eigen::Vector2d::Zero();
     }
     // ∇φ = X in the weak sense: div ∇φ = −Lφ = div X.
