@@ -295,6 +295,15 @@ TEST(Geodesics, SphereDistanceApproachesTheGreatCircle) {
 // Several sources: the distance to the nearest, i.e. the pointwise minimum of the single-source
 // distances, within the error the method makes for one source (mean absolute error; the largest
 // errors sit on the cut locus, where the heat flow rounds the kink off over a width of about √t).
+// With a very short heat time u is ~1e-200 on the far side, where |∇u|² underflows; the
+// directions must survive (they did not: the largest distance was 2.17 instead of ~3).
+TEST(Geodesics, ShortHeatTimeStillReachesTheFarSide) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(4));
+    const double h = t.length.mean();
+    const Eigen::VectorXd d = heat_geodesic_distance(t, {0}, {.time = h * h / 1e5});
+    EXPECT_GT(d.maxCoeff(), 0.95 * kPi);
+}
+
 TEST(Geodesics, SeveralSourcesGiveTheDistanceToTheNearest) {
     const TriangleMesh mesh = make_icosphere(4);
     const HeatGeodesics geodesics(Triangulation::from_mesh(mesh));
