@@ -188,13 +188,14 @@ Eigen::VectorXd HeatGeodesics::distance(const std::vector<int>& sources) const {
     if (dirichlet_heat_) u = 0.5 * (u + dirichlet_heat_->step(u0));
 
     // X = −∇u/|∇u| per face, from divᵀu = −area·∇u; faces where u is flat (to the last bit) get
-    // no direction. Far from the sources u is ~1e-240 (igea): hypot, because the squares in
-    // norm() underflow to 0 there and left a third of igea's faces without a direction.
+    // no direction. Far from the sources u is ~1e-240 (igea) and the squares in norm() underflow
+    // to 0, which left a third of igea's faces without a direction: so scale by the larger
+    // component first (cheaper than hypot).
     Eigen::VectorXd X = divergence_.transpose() * u;
     for (Eigen::Index f = 0; f < X.size() / 2; ++f) {
         auto g = X.segment<2>(2 * f);
-        const double norm = std::hypot(g[0], g[1]);
-        g = norm > 0 ? Eigen::Vector2d(g / norm) : Eigen::Vector2d::Zero();
+        const double scale = std::max(std::abs(g[0]), std::abs(g[1]));
+        g = scale > 0 ? Eigen::Vector2d(g / scale).normalized() : Eigen::Vector2d::Zero();
     }
     // ∇φ = X in the weak sense: div ∇φ = −Lφ = div X.
     Eigen::VectorXd phi = poisson_.solve(-(divergence_ * X));
