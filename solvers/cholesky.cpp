@@ -2,11 +2,35 @@
 
 #include <cholmod.h>
 
+#include <cstdlib>
+#include <mutex>
 #include <string>
+#include <vector>
 
 #include "sdmesh/error.hpp"
 
+#include "../src/prefault.hpp"  // in the sdmesh library, which this one links
+
 namespace sdmesh {
+namespace {
+
+// CHOLMOD allocates the factor afresh at each factorization (~250 MB for 500k mesh vertices) and
+// then writes all of it; on a virtual machine taking those pages one fault at a time cost about
+// 1 s per factorization. Only replaces the standard malloc, never a user's own allocator.
+void* prefaulted_malloc(size_t bytes) {
+    void* block = std::malloc(bytes);
+    detail::prefault(block, bytes);
+    return block;
+}
+
+void use_prefaulted_malloc() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        if (SuiteSparse_config.malloc_func == &std::malloc) SuiteSparse_config.malloc_func = &prefaulted_malloc;
+    });
+}
+
+}  // namespace
 
 struct CholeskySolver::Impl {
     cholmod_common common{};
@@ -16,7 +40,13 @@ struct CholeskySolver::Impl {
     bool factorized = false;
 
     Impl() {
+        use_prefaulted_malloc();
         cholmod_start(&common);
+        reset_options();
+    }
+    // CHOLMOD's defaults (they try AMD, then METIS when its fill is high), supernodal, silent.
+    void reset_options() {
+        cholmod_defaults(&common);
         common.supernodal = CHOLMOD_SUPERNODAL;
         common.print = 0;  // errors become exceptions here, not text on stderr
         common.error_handler = nullptr;
@@ -49,23 +79,51 @@ struct CholeskySolver::Impl {
 };
 
 CholeskySolver::CholeskySolver() : impl_(std::make_unique<Impl>()) {}
-CholeskySolver::CholeskySolver(const Eigen::SparseMatrix<double>& A) : CholeskySolver() {
-    analyze(A);
+CholeskySolver::CholeskySolver(const Eigen::SparseMatrix<double>& A, const CholeskyOptions& options)
+    : CholeskySolver() {
+    analyze(A, options);
     factorize(A);
 }
 CholeskySolver::~CholeskySolver() = default;
 CholeskySolver::CholeskySolver(CholeskySolver&&) noexcept = default;
 CholeskySolver& CholeskySolver::operator=(CholeskySolver&&) noexcept = default;
 
-void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A) {
+void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A, const CholeskyOptions& options) {
     if (A.rows() != A.cols())
         throw InvalidArgumentError("Cholesky: the matrix is " + std::to_string(A.rows()) + " x " +
                                    std::to_string(A.cols()) + ", not square");
     if (!A.isCompressed()) throw InvalidArgumentError("Cholesky: the matrix must be compressed");
+    const Impl* other = options.same_ordering_as ? options.same_ordering_as->impl_.get() : nullptr;
+    if (options.same_ordering_as && (!other->factor || other->size != A.rows()))
+        throw InvalidArgumentError("Cholesky: same_ordering_as must be analysed for a matrix of the same size");
+    // A copy, because same_ordering_as may be this solver, whose factor is freed next.
+    std::vector<int> perm;
+    if (other) perm.assign(static_cast<const int*>(other->factor->Perm), static_cast<const int*>(other->factor->Perm) + other->size);
     Impl& m = *impl_;
     if (m.factor) cholmod_free_factor(&m.factor, &m.common);
     cholmod_sparse a = Impl::view(A);
-    m.factor = cholmod_analyze(&a, &m.common);
+    m.reset_options();
+    if (other) {
+        // The given permutation is already postordered for its pattern; postordering again
+        // could only reorder it for a different pattern.
+        m.common.nmethods = 1;
+        m.common.method[0].ordering = CHOLMOD_GIVEN;
+        m.common.postorder = 0;
+        m.factor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &m.common);
+    } else {
+        m.common.nmethods = options.ordering == CholeskyOrdering::automatic ? 0 : 1;
+        switch (options.ordering) {
+            case CholeskyOrdering::automatic: break;
+            case CholeskyOrdering::amd: m.common.method[0].ordering = CHOLMOD_AMD; break;
+            case CholeskyOrdering::metis: m.common.method[0].ordering = CHOLMOD_METIS; break;
+            case CholeskyOrdering::nested_dissection: m.common.method[0].ordering = CHOLMOD_NESDIS; break;
+            case CholeskyOrdering::coarse_nested_dissection:
+                m.common.method[0].ordering = CHOLMOD_NESDIS;
+                m.common.method[0].nd_small = 20000;
+                break;
+        }
+        m.factor = cholmod_analyze(&a, &m.common);
+    }
     if (!m.factor) throw NumericalError("Cholesky: symbolic analysis failed (CHOLMOD status " +
                                         std::to_string(m.common.status) + ")");
     m.size = static_cast<int>(A.rows());

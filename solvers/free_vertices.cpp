@@ -35,6 +35,55 @@ VertexSplit VertexSplit::make(int n, const std::vector<int>& fixed, std::string_
     return split;
 }
 
+Pins::Pins(int n, const std::vector<int>& fixed, std::string_view who) : fixed_(fixed), is_fixed_(static_cast<size_t>(n), 0) {
+    for (int v : fixed) {
+        if (v < 0 || v >= n)
+            throw InvalidArgumentError(std::string(who) + ": Dirichlet vertex " + std::to_string(v) +
+                                       " is out of range [0, " + std::to_string(n) + ")");
+        if (is_fixed_[static_cast<size_t>(v)])
+            throw InvalidArgumentError(std::string(who) + ": Dirichlet vertex " + std::to_string(v) + " is given twice");
+        is_fixed_[static_cast<size_t>(v)] = 1;
+    }
+}
+
+void Pins::apply(Sparse& A) const {
+    if (fixed_.empty()) return;
+    bool has_diagonals = true;
+    for (int v : fixed_) has_diagonals = has_diagonals && A.coeff(v, v) != 0.0;
+    if (!has_diagonals) {  // rare (the cotan Laplacian stores every diagonal): a structural zero
+        Sparse zero(A.rows(), A.cols());
+        zero.setIdentity();
+        A = Sparse(A + 0.0 * zero);
+    }
+    const auto n = static_cast<int>(A.cols());
+    for (int j = 0; j < n; ++j)
+        for (Sparse::InnerIterator it(A, j); it; ++it)
+            if (is_fixed_[static_cast<size_t>(j)] || is_fixed_[static_cast<size_t>(it.row())])
+                it.valueRef() = it.row() == j ? 1.0 : 0.0;
+}
+
+Sparse Pins::coupling(const Sparse& A) const {
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int k = 0; k < static_cast<int>(fixed_.size()); ++k)
+        for (Sparse::InnerIterator it(A, fixed_[static_cast<size_t>(k)]); it; ++it)
+            entries.emplace_back(static_cast<int>(it.row()), k, it.value());
+    Sparse c(A.rows(), static_cast<Eigen::Index>(fixed_.size()));
+    c.setFromTriplets(entries.begin(), entries.end());
+    return c;
+}
+
+Eigen::VectorXd pinned_rhs(const Eigen::VectorXd& b, const std::vector<int>& fixed, const Sparse& coupling,
+                           const Eigen::VectorXd& g) {
+    if (g.size() == 0) {
+        Eigen::VectorXd r = b;
+        for (int v : fixed) r[v] = 0;
+        return r;
+    }
+    Eigen::VectorXd r = b - coupling * g;
+    for (size_t k = 0; k < fixed.size(); ++k) r[fixed[k]] = g[static_cast<Eigen::Index>(k)];
+    return r;
+}
+
 std::vector<int> connected_components(const Sparse& L, int& count) {
     const int n = static_cast<int>(L.rows());
     std::vector<int> component(static_cast<size_t>(n), -1), stack;

@@ -1,6 +1,7 @@
 #pragma once
 // Private to sdmesh::solvers: checking an (L, M) pair, splitting the vertices into fixed (Dirichlet) and free ones, so that
-// solves run on the free rows and columns, and the connected components seen by a Laplacian.
+// solves run on the free rows and columns (eigenpairs) or keep the matrix's pattern with the fixed
+// ones pinned (Poisson, heat), and the connected components seen by a Laplacian.
 
 #include <string_view>
 #include <vector>
@@ -23,6 +24,34 @@ struct VertexSplit {
 /// \throws InvalidArgumentError (message starting with `who`) L or M is not square, or their
 ///         sizes differ.
 void check_square_pair(const Sparse& L, const Sparse& M, std::string_view who);
+
+/// Dirichlet vertices imposed without changing the size or pattern of a symmetric matrix, so that
+/// every system on one mesh shares a fill-reducing ordering: the rows and columns of the fixed
+/// vertices become those of the identity (their other entries explicit zeros). The system
+/// decouples, so the fixed unknowns come out equal to their right-hand side exactly.
+class Pins {
+public:
+    /// \throws InvalidArgumentError (message starting with `who`) a fixed vertex out of [0, n) or
+    ///         given twice.
+    Pins(int n, const std::vector<int>& fixed, std::string_view who);
+
+    /// A with the pins applied in place; a diagonal entry A lacks is added (a new pattern).
+    void apply(Sparse& A) const;
+
+    /// A(:, fixed): n x |fixed|, what pinned_rhs() needs of the matrix before apply().
+    [[nodiscard]] Sparse coupling(const Sparse& A) const;
+
+    [[nodiscard]] const std::vector<int>& fixed() const { return fixed_; }
+
+private:
+    std::vector<int> fixed_;
+    std::vector<char> is_fixed_;
+};
+
+/// The right-hand side for the pinned A u = b with u = g on the fixed vertices (in their given
+/// order; empty: all 0): b − A(:, fixed)·g, then g on the fixed rows.
+Eigen::VectorXd pinned_rhs(const Eigen::VectorXd& b, const std::vector<int>& fixed, const Sparse& coupling,
+                           const Eigen::VectorXd& g);
 
 /// P A Qᵀ: the rows of A selected by P and the columns selected by Q.
 inline Sparse restrict_to(const Sparse& A, const Sparse& P, const Sparse& Q) { return Sparse(P * A * Q.transpose()); }

@@ -299,30 +299,72 @@ Eigen::VectorXd angle_defects(const Triangulation& t) {
     return defect;
 }
 
-Eigen::SparseMatrix<double> gradient(const Triangulation& t) {
+namespace {
+
+// Gᵀ (|V| x 2|F|) weighted per face: column 2f + c holds weight[f] times component c of the
+// gradients of face f's hat functions, rows ascending, corners at one vertex (Δ-complexes) summed
+// in corner order. Each column is one face's, so it is built in place (from triplets, gradient
+// took 3x and divergence 10x longer on 1M faces); gradient() is this transposed, divergence()
+// this with weight -area.
+Eigen::SparseMatrix<double> weighted_gradient_transpose(const Triangulation& t, const Eigen::VectorXd* weight) {
     require_sizes(t);
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(6 * static_cast<size_t>(t.num_faces()));
-    for (int f = 0; f < t.num_faces(); ++f) {
+    const int nf = t.num_faces();
+    Eigen::SparseMatrix<double> m(t.num_vertices, 2 * nf);
+    int* outer = m.outerIndexPtr();
+    outer[0] = 0;
+    for (int f = 0; f < nf; ++f) {
+        const int a = t.F(f, 0), b = t.F(f, 1), c = t.F(f, 2);
+        const int distinct = 1 + (b != a) + (c != a && c != b);
+        outer[2 * f + 1] = outer[2 * f] + distinct;
+        outer[2 * f + 2] = outer[2 * f + 1] + distinct;
+    }
+    m.resizeNonZeros(outer[2 * nf]);
+    int* inner = m.innerIndexPtr();
+    double* value = m.valuePtr();
+    detail::prefault(inner, sizeof(int) * static_cast<size_t>(outer[2 * nf]));
+    detail::prefault(value, sizeof(double) * static_cast<size_t>(outer[2 * nf]));
+#pragma omp parallel for schedule(static) if (nf >= kMinParallel)
+    for (int f = 0; f < nf; ++f) {
+        detail::prefetch_sides_ahead(t, f);
         const double l0 = t.side(f, 0), l1 = t.side(f, 1), l2 = t.side(f, 2);
         const double twice_area = 2 * triangle_area(l0, l1, l2);
         // Corner 2 sits at (x, 2·area/l2); cosine numerators give x and l2 - x without cancellation.
         const double grad[3][2] = {{-1 / l2, -cosine_numerator(l1, l0, l2) / (2 * twice_area * l2)},
                                    {1 / l2, -cosine_numerator(l0, l1, l2) / (2 * twice_area * l2)},
                                    {0.0, l2 / twice_area}};
-        for (int k = 0; k < 3; ++k)
-            for (int c = 0; c < 2; ++c) triplets.emplace_back(2 * f + c, t.F(f, k), grad[k][c]);
+        // Corners by vertex (stable, so equal vertices keep corner order), then merged.
+        int order[3] = {0, 1, 2};
+        const auto vertex = [&](int k) { return t.F(f, k); };
+        if (vertex(order[1]) < vertex(order[0])) std::swap(order[0], order[1]);
+        if (vertex(order[2]) < vertex(order[1])) std::swap(order[1], order[2]);
+        if (vertex(order[1]) < vertex(order[0])) std::swap(order[0], order[1]);
+        for (int c = 0; c < 2; ++c) {
+            int n = outer[2 * f + c] - 1;
+            for (int i = 0; i < 3; ++i) {
+                const int k = order[i];
+                if (i > 0 && vertex(k) == vertex(order[i - 1])) {
+                    value[n] += grad[k][c];
+                } else {
+                    inner[++n] = vertex(k);
+                    value[n] = grad[k][c];
+                }
+            }
+            if (weight)
+                for (int j = outer[2 * f + c]; j <= n; ++j) value[j] = (*weight)[f] * value[j];
+        }
     }
-    Eigen::SparseMatrix<double> g(2 * t.num_faces(), t.num_vertices);
-    g.setFromTriplets(triplets.begin(), triplets.end());
-    return g;
+    return m;
+}
+
+}  // namespace
+
+Eigen::SparseMatrix<double> gradient(const Triangulation& t) {
+    return Eigen::SparseMatrix<double>(weighted_gradient_transpose(t, nullptr).transpose());
 }
 
 Eigen::SparseMatrix<double> divergence(const Triangulation& t) {
-    const Eigen::VectorXd area = face_areas(t);
-    Eigen::VectorXd weight(2 * area.size());
-    for (Eigen::Index f = 0; f < area.size(); ++f) weight[2 * f] = weight[2 * f + 1] = -area[f];
-    return Eigen::SparseMatrix<double>((weight.asDiagonal() * gradient(t)).transpose());
+    const Eigen::VectorXd weight = -face_areas(t);
+    return weighted_gradient_transpose(t, &weight);
 }
 
 }  // namespace sdmesh

@@ -65,5 +65,42 @@ TEST(Cholesky, RejectsMisuse) {
     EXPECT_THROW((void)solver.solve(Eigen::VectorXd::Ones(15)), InvalidArgumentError);
 }
 
+TEST(Cholesky, EveryOrderingSolves) {
+    const Eigen::SparseMatrix<double> A = grid_matrix(30, 0.1);
+    const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1, 2);
+    for (CholeskyOrdering ordering : {CholeskyOrdering::automatic, CholeskyOrdering::amd, CholeskyOrdering::metis,
+                                      CholeskyOrdering::nested_dissection, CholeskyOrdering::coarse_nested_dissection}) {
+        const CholeskySolver solver(A, {.ordering = ordering});
+        EXPECT_LT((A * solver.solve(b) - b).norm(), 1e-10 * b.norm()) << "ordering " << static_cast<int>(ordering);
+    }
+}
+
+TEST(Cholesky, SameOrderingAsGivesIdenticalSolutions) {
+    const Eigen::SparseMatrix<double> A = grid_matrix(30, 0.1), B = grid_matrix(30, 2.5);
+    const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1, 2);
+    for (CholeskyOrdering ordering : {CholeskyOrdering::amd, CholeskyOrdering::metis}) {
+        const CholeskySolver first(A, {.ordering = ordering});
+        // Same pattern, the ordering reused: the same factor, so bit-identical solutions.
+        const CholeskySolver shared(B, {.same_ordering_as = &first});
+        const CholeskySolver own(B, {.ordering = ordering});
+        EXPECT_EQ(shared.solve(b), own.solve(b));
+        EXPECT_LT((B * shared.solve(b) - b).norm(), 1e-10 * b.norm());
+    }
+    // Reusing a solver's own ordering for a new analysis.
+    CholeskySolver solver(A, {.ordering = CholeskyOrdering::metis});
+    const Eigen::VectorXd x = solver.solve(b);
+    solver.analyze(A, {.same_ordering_as = &solver});
+    solver.factorize(A);
+    EXPECT_EQ(solver.solve(b), x);
+}
+
+TEST(Cholesky, SameOrderingAsMustBeAnalysedAndOfTheSameSize) {
+    const CholeskySolver empty;
+    CholeskySolver solver;
+    EXPECT_THROW(solver.analyze(grid_matrix(4, 1.0), {.same_ordering_as = &empty}), InvalidArgumentError);
+    const CholeskySolver small(grid_matrix(4, 1.0));
+    EXPECT_THROW(solver.analyze(grid_matrix(5, 1.0), {.same_ordering_as = &small}), InvalidArgumentError);
+}
+
 }  // namespace
 }  // namespace sdmesh

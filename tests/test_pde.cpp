@@ -156,6 +156,43 @@ TEST(Poisson, EachComponentWithoutDirichletDataHasZeroMean) {
     EXPECT_LT((u.tail(a.V.rows()) - single).cwiseAbs().maxCoeff(), 1e-10 * scale);
 }
 
+// Solvers of one mesh share the heat solver's ordering: the same pattern gives the same factor,
+// so solutions are bit-identical to those with their own (METIS) ordering, pins still exact.
+TEST(Poisson, SharedOrderingGivesIdenticalSolutions) {
+    const int n = 16;
+    const Triangulation t = Triangulation::from_mesh(make_grid(n, n));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    const HeatSolver heat(L, M, 0.01, {}, {.ordering = CholeskyOrdering::metis});
+    const CholeskyOptions shared{.same_ordering_as = &heat.factorization()};
+    const std::vector<int> boundary = grid_boundary(n);
+    const Eigen::VectorXd f = Eigen::VectorXd::LinSpaced(t.num_vertices, -1, 1);
+    const Eigen::VectorXd g = Eigen::VectorXd::LinSpaced(static_cast<Eigen::Index>(boundary.size()), 2, 3);
+    const Eigen::VectorXd u = PoissonSolver(L, M, boundary, shared).solve(M * f, g);
+    EXPECT_EQ(u, PoissonSolver(L, M, boundary, {.ordering = CholeskyOrdering::metis}).solve(M * f, g));
+    for (size_t i = 0; i < boundary.size(); ++i) EXPECT_EQ(u[boundary[i]], g[static_cast<Eigen::Index>(i)]);
+    EXPECT_EQ(PoissonSolver(L, M, {}, shared).solve(M * f),
+              PoissonSolver(L, M, {}, {.ordering = CholeskyOrdering::metis}).solve(M * f));
+    EXPECT_EQ(HeatSolver(L, M, 0.01, boundary, shared).step(f, 2),
+              HeatSolver(L, M, 0.01, boundary, {.ordering = CholeskyOrdering::metis}).step(f, 2));
+}
+
+// A Dirichlet vertex whose diagonal entry L does not store gets one; the solution is unchanged.
+TEST(Poisson, DirichletVertexWithoutAStoredDiagonal) {
+    const int n = 8;
+    const Triangulation t = Triangulation::from_mesh(make_grid(n, n));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    const std::vector<int> boundary = grid_boundary(n);
+    const int v = boundary.front();
+    Sparse pruned = L;
+    pruned.prune([v](Eigen::Index i, Eigen::Index j, double) { return !(i == v && j == v); });
+    ASSERT_EQ(pruned.nonZeros(), L.nonZeros() - 1);
+    const Eigen::VectorXd f = Eigen::VectorXd::Ones(t.num_vertices);
+    const Eigen::VectorXd g = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(boundary.size()), 0.5);
+    const Eigen::VectorXd u = PoissonSolver(pruned, M, boundary).solve(M * f, g);
+    EXPECT_EQ(u[v], 0.5);
+    EXPECT_LT((u - PoissonSolver(L, M, boundary).solve(M * f, g)).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(Poisson, ArgumentsAreChecked) {
     const Triangulation t = Triangulation::from_mesh(make_icosphere(1));
     const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
@@ -258,6 +295,15 @@ TEST(Geodesics, SphereDistanceApproachesTheGreatCircle) {
 // Several sources: the distance to the nearest, i.e. the pointwise minimum of the single-source
 // distances, within the error the method makes for one source (mean absolute error; the largest
 // errors sit on the cut locus, where the heat flow rounds the kink off over a width of about √t).
+// With a very short heat time u is ~1e-200 on the far side, where |∇u|² underflows; the
+// directions must survive (they did not: the largest distance was 2.17 instead of ~3).
+TEST(Geodesics, ShortHeatTimeStillReachesTheFarSide) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(4));
+    const double h = t.length.mean();
+    const Eigen::VectorXd d = heat_geodesic_distance(t, {0}, {.time = h * h / 1e5});
+    EXPECT_GT(d.maxCoeff(), 0.95 * kPi);
+}
+
 TEST(Geodesics, SeveralSourcesGiveTheDistanceToTheNearest) {
     const TriangleMesh mesh = make_icosphere(4);
     const HeatGeodesics geodesics(Triangulation::from_mesh(mesh));

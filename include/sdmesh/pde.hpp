@@ -9,6 +9,9 @@
 // natural (Neumann) one. A connected component of the mesh (of L's pattern) without a Dirichlet
 // vertex determines u only up to a constant: there the right-hand side is made compatible by
 // removing its component-wise mean, and the solution is the one with zero M-mean on the component.
+// Dirichlet rows and columns are replaced by the identity's rather than removed, so every matrix
+// keeps the pattern of L (plus M) and the solvers of one mesh can share a fill-reducing ordering
+// (CholeskyOptions::same_ordering_as).
 //
 //   sdmesh::PoissonSolver poisson(L, M, boundary);          // factor once
 //   Eigen::VectorXd u = poisson.solve(M * f, boundary_values);
@@ -33,25 +36,29 @@ namespace sdmesh {
 /// Solves L u = b with u = g on the Dirichlet vertices (for −Δu = f pass b = M f).
 class PoissonSolver {
 public:
-    /// Factors L restricted to the free vertices (plus one pinned vertex per component without a
-    /// Dirichlet vertex).
+    /// Factors L with the Dirichlet vertices (plus one pinned vertex per component without a
+    /// Dirichlet vertex) fixed, with the given ordering options.
     /// \throws InvalidArgumentError L, M not square or of different sizes; a Dirichlet vertex out
-    ///         of range or repeated.
-    /// \throws NumericalError the restricted L is not positive definite (L not positive
+    ///         of range or repeated; as CholeskySolver::analyze for the options.
+    /// \throws NumericalError L on the free vertices is not positive definite (L not positive
     ///         semidefinite; the cotan Laplacian always is).
     PoissonSolver(const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M,
-                  const std::vector<int>& dirichlet_vertices = {});
+                  const std::vector<int>& dirichlet_vertices = {}, const CholeskyOptions& cholesky = {});
 
-    /// u (n) with L u = b on the free vertices and u = dirichlet_values (in the order of the
-    /// constructor's vertices; empty means all 0) on the Dirichlet ones. On a component without
+    /// u (n) with L u = b on the free vertices and u = dirichlet_values exactly (in the order of
+    /// the constructor's vertices; empty means all 0) on the Dirichlet ones. On a component without
     /// Dirichlet vertices b is first replaced by its compatible part b − (Σ_c b)·M1/(1ᵀM1), and u
     /// has zero M-mean there.
     /// \throws InvalidArgumentError b or dirichlet_values of the wrong size.
     [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& b, const Eigen::VectorXd& dirichlet_values = {}) const;
 
+    /// The factorization of L with its Dirichlet rows and columns replaced by the identity's.
+    [[nodiscard]] const CholeskySolver& factorization() const { return solver_; }
+
 private:
-    Eigen::SparseMatrix<double> free_, fixed_, L_free_fixed_;  // selections and the coupling block
-    std::vector<int> component_;                               // per vertex
+    std::vector<int> fixed_;                 // Dirichlet vertices, then the pinned ones
+    Eigen::SparseMatrix<double> coupling_;   // L(:, fixed_)
+    std::vector<int> component_;             // per vertex
     std::vector<char> neumann_component_;                      // no Dirichlet vertex in it
     Eigen::VectorXd lumped_mass_;                              // M·1
     Eigen::VectorXd component_area_;                           // 1ᵀM1 per component
@@ -63,20 +70,27 @@ private:
 /// Dirichlet vertices (Neumann elsewhere).
 class HeatSolver {
 public:
-    /// \throws InvalidArgumentError sizes as PoissonSolver; time step t <= 0 or not finite.
+    /// \throws InvalidArgumentError sizes as PoissonSolver; time step t <= 0 or not finite; as
+    ///         CholeskySolver::analyze for the options.
     /// \throws NumericalError M + tL is not positive definite.
     HeatSolver(const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M, double t,
-               const std::vector<int>& dirichlet_vertices = {});
+               const std::vector<int>& dirichlet_vertices = {}, const CholeskyOptions& cholesky = {});
 
     /// Refactors for another time step (same pattern, no new analysis).
     void set_time_step(double t);
 
-    /// u after `steps` steps from u0 (values of u0 on Dirichlet vertices are ignored).
+    /// u after `steps` steps from u0 (values of u0 on Dirichlet vertices are ignored; u is exactly
+    /// 0 there).
     /// \throws InvalidArgumentError u0 of the wrong size, steps < 0.
     [[nodiscard]] Eigen::VectorXd step(const Eigen::VectorXd& u0, int steps = 1) const;
 
+    /// The factorization of M + tL with its Dirichlet rows and columns replaced by the identity's;
+    /// e.g. the same_ordering_as of other solvers on the mesh.
+    [[nodiscard]] const CholeskySolver& factorization() const { return solver_; }
+
 private:
-    Eigen::SparseMatrix<double> free_, L_, M_;  // L and M restricted to the free vertices
+    Eigen::SparseMatrix<double> L_, M_;
+    std::vector<int> fixed_;
     CholeskySolver solver_;
 };
 
@@ -101,7 +115,8 @@ struct GeodesicReport {
 /// hence on extrinsic meshes, converted self-Delaunay meshes and intrinsic triangulations alike:
 /// heat u from the sources for time t, X = −∇u/|∇u| per face, then L φ = −div X (Neumann), and φ
 /// shifted so that its mean over the sources of each component is 0. Factorizations are kept,
-/// so each further query costs three back-substitutions.
+/// so each further query costs three back-substitutions. The heat matrix gets a coarse nested
+/// dissection ordering, which the other factorizations (same pattern) reuse.
 class HeatGeodesics {
 public:
     /// \throws InvalidMeshError as the operators; InvalidArgumentError options.time <= 0;
@@ -117,9 +132,11 @@ public:
 
 private:
     HeatGeodesics(const Triangulation& t, const GeodesicOptions& options, std::chrono::steady_clock::time_point start);
+    HeatGeodesics(const Triangulation& t, const GeodesicOptions& options, std::chrono::steady_clock::time_point start,
+                  const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M);
 
     int num_vertices_ = 0;
-    Eigen::SparseMatrix<double> L_, M_, gradient_, divergence_;
+    Eigen::SparseMatrix<double> divergence_;  // −Gᵀ·area: its transpose is −area·∇ per face
     double time_ = 0;
     HeatSolver neumann_heat_;
     std::optional<HeatSolver> dirichlet_heat_;  // with boundary and averaging only
