@@ -9,7 +9,7 @@
 
 #include "sdmesh/error.hpp"
 
-#include "../src/prefault.hpp"  // in the sdmesh library, which this one links
+#include "prefault.hpp"
 
 namespace sdmesh {
 namespace {

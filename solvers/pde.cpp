@@ -57,6 +57,9 @@ PoissonSolver::PoissonSolver(const Sparse& L, const Sparse& M, const std::vector
     lumped_mass_ = M * Eigen::VectorXd::Ones(n);
     component_area_ = Eigen::VectorXd::Zero(count);
     for (int v = 0; v < n; ++v) component_area_[component_[static_cast<size_t>(v)]] += lumped_mass_[v];
+    // Without area every vertex is isolated and L = 0: any u solves L u = M f, none is "the" solution.
+    if (n > 0 && !(component_area_.maxCoeff() > 0))
+        throw NumericalError("Poisson: the mass matrix has no positive entry (a mesh without faces?)");
     Sparse A = L;
     pins.apply(A);
     solver_ = CholeskySolver(A, cholesky);

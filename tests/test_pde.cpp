@@ -202,6 +202,9 @@ TEST(Poisson, ArgumentsAreChecked) {
     const PoissonSolver poisson(L, M, {0, 1});
     EXPECT_THROW((void)poisson.solve(Eigen::VectorXd::Ones(41)), InvalidArgumentError);
     EXPECT_THROW((void)poisson.solve(Eigen::VectorXd::Ones(42), Eigen::VectorXd::Ones(3)), InvalidArgumentError);
+    // No faces: L = M = 0, so every u solves L u = M f.
+    const Sparse zero(3, 3);
+    EXPECT_THROW(PoissonSolver(zero, zero), NumericalError);
 }
 
 // ---- heat --------------------------------------------------------------------------------------------

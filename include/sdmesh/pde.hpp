@@ -41,7 +41,7 @@ public:
     /// \throws InvalidArgumentError L, M not square or of different sizes; a Dirichlet vertex out
     ///         of range or repeated; as CholeskySolver::analyze for the options.
     /// \throws NumericalError L on the free vertices is not positive definite (L not positive
-    ///         semidefinite; the cotan Laplacian always is).
+    ///         semidefinite; the cotan Laplacian always is); M has no positive entry (no area).
     PoissonSolver(const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M,
                   const std::vector<int>& dirichlet_vertices = {}, const CholeskyOptions& cholesky = {});
 
