@@ -4,6 +4,7 @@
 
 #include <Eigen/SparseCore>
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include "sdmesh/cholesky.hpp"
 #include "sdmesh/error.hpp"
@@ -45,6 +46,23 @@ TEST(Cholesky, SolvesAndRefactorizes) {
     solver.factorize(B);
     const Eigen::VectorXd y = solver.solve(Eigen::VectorXd(b.col(0)));
     EXPECT_LT((B * y - b.col(0)).norm(), 1e-10 * b.col(0).norm());
+}
+
+// The factor's BLAS runs on one thread whatever the caller's OpenMP setting, so solutions do not
+// depend on it (a 200 x 200 grid has supernodes large enough for a threaded BLAS to split them),
+// and the caller's setting is left as it was.
+TEST(Cholesky, SolutionsDoNotDependOnTheThreadCount) {
+    const Eigen::SparseMatrix<double> A = grid_matrix(200, 0.01);
+    const Eigen::MatrixXd b = Eigen::MatrixXd::Random(A.rows(), 2);
+    const int initial = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const Eigen::MatrixXd x1 = CholeskySolver(A).solve_columns(b);
+    omp_set_num_threads(2);
+    const Eigen::MatrixXd x2 = CholeskySolver(A).solve_columns(b);
+    EXPECT_EQ(omp_get_max_threads(), 2);
+    omp_set_num_threads(initial);
+    EXPECT_TRUE(x1 == x2) << "largest difference " << (x1 - x2).cwiseAbs().maxCoeff();
+    EXPECT_LT((A * x1 - b).norm(), 1e-10 * b.norm());
 }
 
 TEST(Cholesky, RejectsMatricesThatAreNotPositiveDefinite) {
