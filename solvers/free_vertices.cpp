@@ -13,9 +13,11 @@ void check_square_pair(const Sparse& L, const Sparse& M, std::string_view who) {
                                    std::to_string(M.cols()) + "; both must be square and of the same size");
 }
 
-VertexSplit VertexSplit::make(int n, const std::vector<int>& fixed, std::string_view who) {
+namespace {
+
+// Flags of the fixed vertices among n, each checked to be in range and given once.
+std::vector<char> fixed_flags(int n, const std::vector<int>& fixed, std::string_view who) {
     std::vector<char> is_fixed(static_cast<size_t>(n), 0);
-    std::vector<Eigen::Triplet<double>> fixed_entries, free_entries;
     for (int v : fixed) {
         if (v < 0 || v >= n)
             throw InvalidArgumentError(std::string(who) + ": Dirichlet vertex " + std::to_string(v) +
@@ -23,8 +25,16 @@ VertexSplit VertexSplit::make(int n, const std::vector<int>& fixed, std::string_
         if (is_fixed[static_cast<size_t>(v)])
             throw InvalidArgumentError(std::string(who) + ": Dirichlet vertex " + std::to_string(v) + " is given twice");
         is_fixed[static_cast<size_t>(v)] = 1;
-        fixed_entries.emplace_back(static_cast<int>(fixed_entries.size()), v, 1.0);
     }
+    return is_fixed;
+}
+
+}  // namespace
+
+VertexSplit VertexSplit::make(int n, const std::vector<int>& fixed, std::string_view who) {
+    const std::vector<char> is_fixed = fixed_flags(n, fixed, who);
+    std::vector<Eigen::Triplet<double>> fixed_entries, free_entries;
+    for (int v : fixed) fixed_entries.emplace_back(static_cast<int>(fixed_entries.size()), v, 1.0);
     for (int v = 0; v < n; ++v)
         if (!is_fixed[static_cast<size_t>(v)]) free_entries.emplace_back(static_cast<int>(free_entries.size()), v, 1.0);
     VertexSplit split;
@@ -35,16 +45,8 @@ VertexSplit VertexSplit::make(int n, const std::vector<int>& fixed, std::string_
     return split;
 }
 
-Pins::Pins(int n, const std::vector<int>& fixed, std::string_view who) : fixed_(fixed), is_fixed_(static_cast<size_t>(n), 0) {
-    for (int v : fixed) {
-        if (v < 0 || v >= n)
-            throw InvalidArgumentError(std::string(who) + ": Dirichlet vertex " + std::to_string(v) +
-                                       " is out of range [0, " + std::to_string(n) + ")");
-        if (is_fixed_[static_cast<size_t>(v)])
-            throw InvalidArgumentError(std::string(who) + ": Dirichlet vertex " + std::to_string(v) + " is given twice");
-        is_fixed_[static_cast<size_t>(v)] = 1;
-    }
-}
+Pins::Pins(int n, const std::vector<int>& fixed, std::string_view who)
+    : fixed_(fixed), is_fixed_(fixed_flags(n, fixed, who)) {}
 
 void Pins::apply(Sparse& A) const {
     if (fixed_.empty()) return;
