@@ -58,7 +58,7 @@ struct Candidate {
     double key;
     int u, w;
     unsigned version_u, version_w;
-    bool evaluated;  // key is the cost at the checked placement, not a lower bound
+    int checked;  // -1: key is a lower bound; else key is the cost at the placement checked_[checked]
 
     bool operator>(const Candidate& o) const {
         if (key != o.key) return key > o.key;
@@ -70,9 +70,20 @@ struct Candidate {
 struct StarFace {
     int face, a, b;
     int before = -1;     // the star face (v, c, a) sharing spoke v-a, -1 if that spoke is on the boundary
-    bool b_open = true;  // no star face starts at b: spoke v-b is on the boundary
+    int after = -1;      // the star face (v, b, d) sharing spoke v-b, -1 if that spoke is on the boundary
     int across = -1;     // the face on the other side of a-b, -1 on the boundary
     int w = -1;          // its vertex opposite a-b
+    // What the checks of every placement share: the old normal, |ab| and the angle at w as
+    // 4·area and cosine numerator of (a, b, w).
+    Vec3 normal = Vec3::Zero();
+    double ab = 0, across_area4 = 0, across_cosine = 0;
+};
+
+// Per star face and placement x: |xa|, |xb|, and the triangle (x, a, b) as 4·area and the cosine
+// numerators of its angles at x, a and b — each computed once, though the spoke and link tests
+// use them several times.
+struct StarTriangle {
+    double xa, xb, area4, cosine_x, cosine_a, cosine_b;
 };
 
 // A boundary edge's plane weighs as much as this many face planes, so that the outline holds
@@ -125,6 +136,8 @@ public:
         live_vertices_ = std::count(alive_.begin(), alive_.end(), 1);
         version_.assign(static_cast<size_t>(nv), 0);
         mark_.assign(static_cast<size_t>(nv), 0);
+        slot_.assign(static_cast<size_t>(nv), -1);
+        touched_.assign(static_cast<size_t>(nv), 0);
         refused_.resize(static_cast<size_t>(nv));
         if (options_.max_error > 0) init_error_tracking(mesh);
     }
@@ -158,21 +171,27 @@ public:
             }
             const Candidate top = queue_.top();
             queue_.pop();
+            std::optional<Checked> checked;
+            if (top.checked >= 0) checked = checked_[top.checked], free_checked_.push_back(top.checked);
             if (!alive_[top.u] || !alive_[top.w] || version_[top.u] != top.version_u ||
                 version_[top.w] != top.version_w)
                 continue;
             const auto [keep, drop] = survivor(top.u, top.w);
             Vec3 x = Vec3::Zero();
             double cost = 0;
-            const Verdict verdict = evaluate(keep, drop, x, cost);
+            // Without a collapse near it since the check, the checked placement still passes (its
+            // check is rerun only for the state collapse() takes from it); else evaluate afresh.
+            const bool unchanged = checked && topology_allows(keep, drop) && untouched_since(keep, drop, checked->collapses);
+            if (unchanged) x = checked->x;
+            const Verdict verdict = unchanged ? check(keep, drop, x) : evaluate(keep, drop, x, cost);
             if (verdict != Verdict::accepted) {
                 count_rejection(verdict, report.rejected);
                 refuse(top.u, top.w);
                 continue;
             }
             // The queue key was a lower bound; let a cheaper collapse go first.
-            if (!top.evaluated && !queue_.empty() && cost > queue_.top().key) {
-                queue_.push({cost, top.u, top.w, top.version_u, top.version_w, true});
+            if (!checked && !queue_.empty() && cost > queue_.top().key) {
+                queue_.push({cost, top.u, top.w, top.version_u, top.version_w, store_checked({x, collapses_})});
                 continue;
             }
             collapse(keep, drop, x);
@@ -274,16 +293,29 @@ private:
                 if (std::find(shared_.begin(), shared_.end(), f) != shared_.end()) continue;
                 const auto& c = corner_[f];
                 const int k = c[0] == end ? 0 : c[1] == end ? 1 : 2;
-                StarFace& s = star_.emplace_back(StarFace{f, c[(k + 1) % 3], c[(k + 2) % 3]});
+                StarFace& s = star_.emplace_back(StarFace{.face = f, .a = c[(k + 1) % 3], .b = c[(k + 2) % 3]});
                 // The side a-b is opposite the corner at `end`; its twin lies in the face across.
                 const int twin = twin_[3 * f + k];
                 if (twin >= 0) s.across = twin / 3, s.w = corner_[twin / 3][twin % 3];
             }
-        for (size_t i = 0; i < star_.size(); ++i)
-            for (size_t j = 0; j < star_.size(); ++j) {
-                if (star_[j].b == star_[i].a) star_[i].before = static_cast<int>(j);
-                if (star_[j].a == star_[i].b) star_[i].b_open = false;
+        // Neighbouring star faces through per-vertex slots: the face ending at a vertex, then
+        // the face starting at it.
+        const unsigned ends = ++stamp_;
+        for (int j = 0; j < static_cast<int>(star_.size()); ++j) mark_[star_[j].b] = ends, slot_[star_[j].b] = j;
+        for (StarFace& s : star_)
+            if (mark_[s.a] == ends) s.before = slot_[s.a];
+        const unsigned starts = ++stamp_;
+        for (int j = 0; j < static_cast<int>(star_.size()); ++j) mark_[star_[j].a] = starts, slot_[star_[j].a] = j;
+        for (StarFace& s : star_) {
+            if (mark_[s.b] == starts) s.after = slot_[s.b];
+            s.normal = face_normal(s.face);
+            s.ab = distance(P_[s.a], P_[s.b]);
+            if (s.across >= 0) {
+                const double wa = distance(P_[s.w], P_[s.a]), wb = distance(P_[s.w], P_[s.b]);
+                s.across_area4 = 4.0 * triangle_area(s.ab, wa, wb);
+                s.across_cosine = cosine_numerator(s.ab, wa, wb);
             }
+        }
         return !star_.empty();
     }
 
@@ -461,39 +493,51 @@ private:
         return optimum.allFinite() ? quadric(optimum) : quadric(mid);
     }
 
-    double dist(int u, int v, int p, const Vec3& x) const {
-        return distance(u == p ? x : P_[u], v == p ? x : P_[v]);
-    }
-
     // The exact checks of a collapse of q into p at x: normals, then LD of every spoke and link
     // edge, then the error bound.
     Verdict check(int p, int q, const Vec3& x) {
-        for (const StarFace& s : star_) {
-            const Vec3 before = face_normal(s.face);
+        const int n = static_cast<int>(star_.size());
+        std::vector<StarTriangle>& t = star_triangles_;
+        t.resize(star_.size());
+        for (int i = 0; i < n; ++i) t[i].xa = distance(x, P_[star_[i].a]);
+        for (int i = 0; i < n; ++i) t[i].xb = star_[i].after >= 0 ? t[star_[i].after].xa : distance(x, P_[star_[i].b]);
+        for (int i = 0; i < n; ++i) {
+            const StarFace& s = star_[i];
             const Vec3 after = (P_[s.a] - x).cross(P_[s.b] - x);
-            const double longest = std::max({distance(x, P_[s.a]), distance(x, P_[s.b]), distance(P_[s.a], P_[s.b])});
-            if (!(after.dot(before) > 0) || 0.5 * after.norm() <= 1e-12 * longest * longest) return Verdict::normal_flip;
+            const double longest = std::max({t[i].xa, t[i].xb, s.ab});
+            if (!(after.dot(s.normal) > 0) || 0.5 * after.norm() <= 1e-12 * longest * longest) return Verdict::normal_flip;
+        }
+        for (int i = 0; i < n; ++i) {
+            StarTriangle& ti = t[i];
+            const double ab = star_[i].ab;
+            ti.area4 = 4.0 * triangle_area(ti.xa, ti.xb, ab);
+            ti.cosine_x = cosine_numerator(ab, ti.xa, ti.xb);
+            ti.cosine_a = cosine_numerator(ti.xb, ti.xa, ab);
+            ti.cosine_b = cosine_numerator(ti.xa, ti.xb, ab);
         }
         const double tol = options_.tolerance;
         const bool strict = options_.boundary == BoundaryPolicy::strict;
-        for (const StarFace& s : star_) {
-            // Spoke v-a: this face (v, a, b) and the star face (v, c, a) before it, if any.
-            const double va = distance(x, P_[s.a]), vb = distance(x, P_[s.b]), ab = distance(P_[s.a], P_[s.b]);
+        const auto obtuse = [&](double area4, double cosine) { return strict && boundary_margin_scaled(area4, cosine) < -tol; };
+        for (int i = 0; i < n; ++i) {
+            const StarFace& s = star_[i];
+            const StarTriangle& ti = t[i];
+            // Spoke v-a: its angles are at b in this face (v, a, b) and at c in the star face
+            // (v, c, a) before it, if any.
             if (s.before >= 0) {
-                const int c = star_[s.before].a;
-                if (!is_locally_delaunay(va, vb, ab, distance(x, P_[c]), distance(P_[c], P_[s.a]), tol))
+                const StarTriangle& tc = t[s.before];
+                if (!is_locally_delaunay_scaled(ti.area4, ti.cosine_b, tc.area4, tc.cosine_a, tan_tolerance_))
                     return Verdict::not_delaunay;
-            } else if (strict && boundary_margin(va, vb, ab) < -tol) {
+            } else if (obtuse(ti.area4, ti.cosine_b)) {
                 return Verdict::not_delaunay;
             }
             // Spoke v-b on the boundary (no star face after it).
-            if (s.b_open && strict && boundary_margin(vb, va, ab) < -tol) return Verdict::not_delaunay;
-            // Link edge a-b against the face across it.
+            if (s.after < 0 && obtuse(ti.area4, ti.cosine_a)) return Verdict::not_delaunay;
+            // Link edge a-b: the angle at v against the angle at w across it.
             if (s.across < 0) {
-                if (strict && boundary_margin(ab, va, vb) < -tol) return Verdict::not_delaunay;
+                if (obtuse(ti.area4, ti.cosine_x)) return Verdict::not_delaunay;
                 continue;
             }
-            if (!is_locally_delaunay(ab, va, vb, distance(P_[s.w], P_[s.a]), distance(P_[s.w], P_[s.b]), tol))
+            if (!is_locally_delaunay_scaled(ti.area4, ti.cosine_x, s.across_area4, s.across_cosine, tan_tolerance_))
                 return Verdict::not_delaunay;
         }
         if (options_.max_error > 0 && !within_error(p, q, x)) return Verdict::max_error;
@@ -560,6 +604,9 @@ private:
         ++version_[p];
         neighbours(p, ring_);
         const std::vector<int>& ring = ring_;
+        ++collapses_;
+        touched_[p] = collapses_;
+        for (int a : ring) touched_[a] = collapses_;
         for (int a : ring) push(std::min(p, a), std::max(p, a));
         // Collapses refused next to the changed star may be allowed now: retried at once (they
         // keep the greedy order), a few times; after that they wait for the next round.
@@ -608,7 +655,35 @@ private:
     }
 
     void push(int u, int w) {
-        queue_.push({lower_bound(u, w), u, w, version_[u], version_[w], false});
+        queue_.push({lower_bound(u, w), u, w, version_[u], version_[w], -1});
+    }
+
+    // A placement that passed the checks, and the number of collapses done then.
+    struct Checked {
+        Vec3 x;
+        long long collapses;
+    };
+
+    // Whether the checks of collapsing q into p read only what no collapse after the first
+    // `collapses` changed (star_ as topology_allows left it). A collapse into v changes the faces
+    // around v, hence the stars of v and its ring, the twins across the faces it removed (whose
+    // sides join v and ring vertices) and v's position; it marks v and its ring as touched.
+    bool untouched_since(int p, int q, long long collapses) const {
+        if (touched_[p] > collapses || touched_[q] > collapses) return false;
+        return std::none_of(star_.begin(), star_.end(), [&](const StarFace& s) {
+            return touched_[s.a] > collapses || touched_[s.b] > collapses || (s.w >= 0 && touched_[s.w] > collapses);
+        });
+    }
+
+    int store_checked(const Checked& c) {
+        if (free_checked_.empty()) {
+            checked_.push_back(c);
+            return static_cast<int>(checked_.size()) - 1;
+        }
+        const int slot = free_checked_.back();
+        free_checked_.pop_back();
+        checked_[slot] = c;
+        return slot;
     }
 
     // ---- the error bound ----------------------------------------------------------------------
@@ -687,6 +762,7 @@ private:
     }
 
     const DecimateOptions& options_;
+    const double tan_tolerance_ = std::tan(options_.tolerance);
     std::vector<Vec3> P_;
     std::vector<std::array<int, 3>> corner_;
     std::vector<int> twin_;  // per side 3f + k (opposite corner k): the same edge's side in the face across, -1 on the boundary
@@ -700,15 +776,21 @@ private:
     std::vector<std::pair<int, int>> deferred_;  // refused too often: retried in the next round
     long long live_vertices_ = 0;
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue_;
+    std::vector<Checked> checked_;   // of the queued candidates with checked >= 0
+    long long collapses_ = 0;
+    std::vector<long long> touched_;  // per vertex: the last collapse that changed its star (see untouched_since)
+    std::vector<int> free_checked_;  // unused entries of checked_
     // Scratch of the collapse being evaluated.
     std::vector<int> shared_;
     std::vector<StarFace> star_;
+    std::vector<StarTriangle> star_triangles_;  // of check
     std::vector<HalfSpace> region_;
     std::vector<int> violated_;  // of region_minimum
     std::vector<Vec3> placements_, extra_;
     std::vector<std::pair<double, int>> order_;  // of placements
     std::vector<int> ring_;  // neighbours of a vertex
     std::vector<unsigned> mark_;  // vertex marks of the link condition, compared with stamp_
+    std::vector<int> slot_;       // per vertex marked in mark_: a star face index
     unsigned stamp_ = 0;
     // Error bound.
     std::unique_ptr<TriangleTree> tree_;

@@ -26,17 +26,12 @@ double delaunay_margin(double l, double a, double b, double c, double d) {
 }
 
 bool is_locally_delaunay(double l, double a, double b, double c, double d, double tolerance) {
-    const double s_alpha = 4.0 * triangle_area(l, a, b), c_alpha = cosine_numerator(l, a, b);
-    const double s_beta = 4.0 * triangle_area(l, c, d), c_beta = cosine_numerator(l, c, d);
-    // margin = atan2(y, x) is in [0, π] for y >= 0, below -π/2 for y < 0 <= -x, and atan(y/x)
-    // for y < 0 < x, which is >= -tolerance iff y >= -tan(tolerance)·x.
-    const double y = s_alpha * c_beta + c_alpha * s_beta, x = s_alpha * s_beta - c_alpha * c_beta;
-    if (y >= 0) return true;
-    return x > 0 && y >= -std::tan(tolerance) * x;
+    return is_locally_delaunay_scaled(4.0 * triangle_area(l, a, b), cosine_numerator(l, a, b),
+                                      4.0 * triangle_area(l, c, d), cosine_numerator(l, c, d), std::tan(tolerance));
 }
 
 double boundary_margin(double l, double a, double b) {
-    return std::atan2(cosine_numerator(l, a, b), 4.0 * triangle_area(l, a, b));
+    return boundary_margin_scaled(4.0 * triangle_area(l, a, b), cosine_numerator(l, a, b));
 }
 
 double cotan_weight(double l, double a, double b, double c, double d) {

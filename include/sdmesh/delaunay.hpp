@@ -12,6 +12,7 @@
 // below any margin a real mesh produces; being one-sided it makes co-circular quads count as LD,
 // so a flip loop cannot cycle on them.
 
+#include <cmath>
 #include <limits>
 
 #include <Eigen/Core>
@@ -38,8 +39,24 @@ enum class BoundaryPolicy {
 [[nodiscard]] bool is_locally_delaunay(double l, double a, double b, double c, double d,
                                        double tolerance = kDelaunayTolerance);
 
+/// is_locally_delaunay from the two opposite angles given as 4·area and cosine numerator of
+/// their triangles (4.0 * triangle_area(l, a, b) and cosine_numerator(l, a, b); likewise for
+/// (l, c, d)), with tan_tolerance = tan(tolerance): for loops that share these between edges.
+[[nodiscard]] inline bool is_locally_delaunay_scaled(double area4_alpha, double cosine_alpha, double area4_beta,
+                                                     double cosine_beta, double tan_tolerance) {
+    // The margin atan2(y, x) is in [0, π] for y >= 0, below -π/2 for y < 0 <= -x, and atan(y/x)
+    // for y < 0 < x, which is >= -tolerance iff y >= -tan(tolerance)·x.
+    const double y = area4_alpha * cosine_beta + cosine_alpha * area4_beta;
+    const double x = area4_alpha * area4_beta - cosine_alpha * cosine_beta;
+    if (y >= 0) return true;
+    return x > 0 && y >= -tan_tolerance * x;
+}
+
 /// π/2 - α for a boundary edge of length l in the face (l, a, b).
 [[nodiscard]] double boundary_margin(double l, double a, double b);
+
+/// The same from the angle's 4·area and cosine numerator (see is_locally_delaunay_scaled).
+[[nodiscard]] inline double boundary_margin_scaled(double area4, double cosine) { return std::atan2(cosine, area4); }
 
 /// (cot α + cot β) / 2, the cotan weight of an interior edge (± infinity next to a zero-area face).
 [[nodiscard]] double cotan_weight(double l, double a, double b, double c, double d);
