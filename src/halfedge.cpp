@@ -2,11 +2,35 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
+#include <cstdint>
 #include <utility>
 
 #include "prefault.hpp"
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 namespace sdmesh {
+namespace {
+
+// Asks for 2 MB pages on the whole 4 KB pages of a block (before it is first written): flip loops
+// read the face records at random, and with small pages nearly every read also misses the TLB.
+void advise_huge_pages(void* data, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr std::uintptr_t page = 4096;
+    const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) & ~(page - 1);
+    const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(page - 1);
+    // A refusal (THP disabled) only leaves small pages.
+    if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+    (void)data;
+    (void)bytes;
+#endif
+}
+
+}  // namespace
 
 HalfedgeMesh::HalfedgeMesh(const Triangulation& t)
     : HalfedgeMesh(t.F, t.face_edge, t.edge_halfedges, t.num_vertices) {}
@@ -14,37 +38,37 @@ HalfedgeMesh::HalfedgeMesh(const Triangulation& t)
 HalfedgeMesh::HalfedgeMesh(const Eigen::MatrixX3i& F, const Eigen::MatrixX3i& face_edge,
                            const Eigen::MatrixX2i& edge_halfedges, int num_vertices)
     : num_vertices_(num_vertices) {
-    const auto num_halfedges = 3 * static_cast<size_t>(F.rows());
-    detail::prefaulted_assign(corner_, num_halfedges, 0);
-    detail::prefaulted_assign(twin_, num_halfedges, -1);
-    detail::prefaulted_assign(edge_, num_halfedges, 0);
-    detail::prefaulted_assign(edge_halfedge_, static_cast<size_t>(edge_halfedges.rows()), 0);
+    // Records written whole, in face order, into premapped pages; twins then scattered per edge.
+    const auto num_faces = static_cast<size_t>(F.rows());
+    face_.reserve(num_faces);
+    advise_huge_pages(face_.data(), num_faces * sizeof(Face));
+    detail::prefault(face_.data(), num_faces * sizeof(Face));
     for (int f = 0; f < F.rows(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            corner_[3 * f + k] = F(f, k);
-            edge_[3 * f + k] = face_edge(f, k);
-        }
+        face_.push_back({{0, 0, 0},
+                         {F(f, 0), F(f, 1), F(f, 2)},
+                         {-1, -1, -1},
+                         {face_edge(f, 0), face_edge(f, 1), face_edge(f, 2)}});
+    detail::prefaulted_assign(edge_halfedge_, static_cast<size_t>(edge_halfedges.rows()), 0);
     for (int e = 0; e < edge_halfedges.rows(); ++e) {
         const int h0 = edge_halfedges(e, 0), h1 = edge_halfedges(e, 1);
         edge_halfedge_[e] = h0;
-        if (h1 >= 0) twin_[h0] = h1, twin_[h1] = h0;
+        if (h1 >= 0) twin_of(h0) = h1, twin_of(h1) = h0;
     }
 }
 
 void HalfedgeMesh::glue(int a, int b, int e) {
-    if (a >= 0) twin_[a] = b, edge_[a] = e;
-    if (b >= 0) twin_[b] = a, edge_[b] = e;
+    if (a >= 0) twin_of(a) = b, edge_of(a) = e;
+    if (b >= 0) twin_of(b) = a, edge_of(b) = e;
     edge_halfedge_[e] = a >= 0 ? a : b;
 }
 
 void HalfedgeMesh::move_side(int from, int to) {
-    glue(to, twin_[from], edge_[from]);
+    set_side_length(to, side_length(from));
+    glue(to, twin(from), edge(from));
 }
 
 int HalfedgeMesh::add_face(int a, int b, int c) {
-    corner_.insert(corner_.end(), {a, b, c});
-    twin_.insert(twin_.end(), {-1, -1, -1});
-    edge_.insert(edge_.end(), {-1, -1, -1});
+    face_.push_back({{0, 0, 0}, {a, b, c}, {-1, -1, -1}, {-1, -1, -1}});
     return num_faces() - 1;
 }
 
@@ -54,29 +78,36 @@ int HalfedgeMesh::add_edge() {
 }
 
 void HalfedgeMesh::flip(int e) {
-    const int h = edge_halfedge_[e], t = twin_[h];
+    const int h = edge_halfedge_[e], t = twin(h);
     const int f = face(h), g = face(t);
     const int r = opposite_vertex(h), p = tail(h), q = head(h), s = opposite_vertex(t);
     // The outer sides q->r, r->p (face f) and p->s, s->q (face g), and where they go: in (r, p, s)
     // slot 0 is p->s and slot 2 is r->p; in (s, q, r) slot 0 is q->r and slot 2 is s->q.
     const std::array<int, 4> from = {next(h), prev(h), next(t), prev(t)};
     const std::array<int, 4> to = {3 * g, 3 * f + 2, 3 * f, 3 * g + 2};
-    std::array<int, 4> twin{}, edge{};
+    std::array<int, 4> outer_twin{}, outer_edge{};
+    std::array<double, 4> outer_length{};
     for (int i = 0; i < 4; ++i) {
-        twin[i] = twin_[from[i]];
-        edge[i] = edge_[from[i]];
+        outer_twin[i] = twin(from[i]);
+        outer_edge[i] = edge(from[i]);
+        outer_length[i] = side_length(from[i]);
         // A Δ-complex may glue two outer sides of the pair to each other.
-        const auto inside = std::find(from.begin(), from.end(), twin[i]);
-        if (inside != from.end()) twin[i] = to[inside - from.begin()];
+        const auto inside = std::find(from.begin(), from.end(), outer_twin[i]);
+        if (inside != from.end()) outer_twin[i] = to[inside - from.begin()];
     }
-    corner_[3 * f] = r, corner_[3 * f + 1] = p, corner_[3 * f + 2] = s;
-    corner_[3 * g] = s, corner_[3 * g + 1] = q, corner_[3 * g + 2] = r;
-    for (int i = 0; i < 4; ++i) glue(to[i], twin[i], edge[i]);
+    Face& face_f = face_[f];
+    Face& face_g = face_[g];
+    face_f.corner[0] = r, face_f.corner[1] = p, face_f.corner[2] = s;
+    face_g.corner[0] = s, face_g.corner[1] = q, face_g.corner[2] = r;
+    for (int i = 0; i < 4; ++i) {
+        glue(to[i], outer_twin[i], outer_edge[i]);
+        set_side_length(to[i], outer_length[i]);
+    }
     glue(3 * f + 1, 3 * g + 1, e);  // s->r in f, r->s in g
 }
 
 int HalfedgeMesh::split(int e) {
-    const int h = edge_halfedge_[e], t = twin_[h];
+    const int h = edge_halfedge_[e], t = twin(h);
     const int x = num_vertices_++;
     const int other_half = add_edge();
 
@@ -85,7 +116,7 @@ int HalfedgeMesh::split(int e) {
     const int f_new = add_face(opposite_vertex(h), x, head(h));
     const int spoke_h = add_edge();
     move_side(next(h), 3 * f_new + 1);
-    corner_[prev(h)] = x;
+    corner_of(prev(h)) = x;
     glue(next(h), 3 * f_new + 2, spoke_h);
     if (t < 0) {
         glue(3 * f_new, -1, other_half);  // boundary half x->q
@@ -95,7 +126,7 @@ int HalfedgeMesh::split(int e) {
     const int g_new = add_face(opposite_vertex(t), x, head(t));
     const int spoke_t = add_edge();
     move_side(next(t), 3 * g_new + 1);
-    corner_[prev(t)] = x;
+    corner_of(prev(t)) = x;
     glue(next(t), 3 * g_new + 2, spoke_t);
     glue(h, 3 * g_new, e);           // p->x and x->p
     glue(t, 3 * f_new, other_half);  // q->x and x->q
@@ -105,16 +136,16 @@ int HalfedgeMesh::split(int e) {
 bool HalfedgeMesh::has_edge_between(int c, int v) const {
     // Around the vertex of corner c: the face across the side leaving it (prev) holds the vertex
     // at slot prev(twin); across the side entering it (next), at slot next(twin).
-    auto neighbours_contain = [&](int slot) { return corner_[next(slot)] == v || corner_[prev(slot)] == v; };
+    auto neighbours_contain = [&](int slot) { return tail(slot) == v || head(slot) == v; };
     for (int slot = c;;) {
         if (neighbours_contain(slot)) return true;
-        const int across = twin_[prev(slot)];
+        const int across = twin(prev(slot));
         if (across < 0) break;
         slot = prev(across);
         if (slot == c) return false;  // closed fan
     }
     for (int slot = c;;) {
-        const int across = twin_[next(slot)];
+        const int across = twin(next(slot));
         if (across < 0) return false;
         slot = next(across);
         if (neighbours_contain(slot)) return true;
@@ -132,9 +163,11 @@ Triangulation HalfedgeMesh::to_triangulation(Eigen::VectorXd length) const {
     out.edge_halfedges.resize(ne, 2);
     out.face_edge.resize(nf, 3);
     out.face_edge_sign.resize(nf, 3);
+    detail::prefault(out.F), detail::prefault(out.E), detail::prefault(out.edge_halfedges);
+    detail::prefault(out.face_edge), detail::prefault(out.face_edge_sign);
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 3; ++k) {
-            const int h = 3 * f + k, t = twin_[h], e = edge_[h], from = tail(h), to = head(h);
+            const int h = 3 * f + k, t = twin(h), e = edge(h), from = tail(h), to = head(h);
             const bool first = t < 0 || h < t;
             if (first) {
                 out.E(e, 0) = std::min(from, to);
@@ -146,7 +179,7 @@ Triangulation HalfedgeMesh::to_triangulation(Eigen::VectorXd length) const {
             // runs along it, its twin against it, so that d1 sees the two faces glued with
             // opposite orientations.
             const bool forward = from != to ? from < to : first;
-            out.F(f, k) = corner_[h];
+            out.F(f, k) = corner(f, k);
             out.face_edge(f, k) = e;
             out.face_edge_sign(f, k) = static_cast<signed char>(forward ? 1 : -1);
         }
@@ -157,7 +190,7 @@ Triangulation HalfedgeMesh::to_triangulation(Eigen::VectorXd length) const {
 Eigen::MatrixX3i HalfedgeMesh::faces() const {
     Eigen::MatrixX3i F(num_faces(), 3);
     for (int f = 0; f < num_faces(); ++f)
-        for (int k = 0; k < 3; ++k) F(f, k) = corner_[3 * f + k];
+        for (int k = 0; k < 3; ++k) F(f, k) = corner(f, k);
     return F;
 }
 

@@ -3,7 +3,8 @@
 // (internal, not installed). Corner-table layout: face f owns halfedges 3f, 3f+1, 3f+2, and
 // halfedge 3f+k is the side OPPOSITE corner k, running from corner k+1 to corner k+2 — the
 // convention of topology.hpp and Triangulation. Twins are explicit, never looked up by vertex
-// pairs, so a Δ-complex (repeated edges, self-loops) is representable.
+// pairs, so a Δ-complex (repeated edges, self-loops) is representable. Each halfedge also holds
+// a side length, for flip loops on edge lengths: all that one face's test needs is one record.
 
 #include <vector>
 
@@ -23,26 +24,36 @@ public:
                  const Eigen::MatrixX2i& edge_halfedges, int num_vertices);
 
     [[nodiscard]] int num_vertices() const { return num_vertices_; }
-    [[nodiscard]] int num_faces() const { return static_cast<int>(corner_.size() / 3); }
+    [[nodiscard]] int num_faces() const { return static_cast<int>(face_.size()); }
     [[nodiscard]] int num_edges() const { return static_cast<int>(edge_halfedge_.size()); }
 
     // Navigation.
     [[nodiscard]] static int face(int h) { return h / 3; }
     [[nodiscard]] static int next(int h) { return h - h % 3 + (h % 3 + 1) % 3; }
     [[nodiscard]] static int prev(int h) { return h - h % 3 + (h % 3 + 2) % 3; }
-    [[nodiscard]] int corner(int f, int k) const { return corner_[3 * f + k]; }
-    [[nodiscard]] int opposite_vertex(int h) const { return corner_[h]; }
-    [[nodiscard]] int tail(int h) const { return corner_[next(h)]; }
-    [[nodiscard]] int head(int h) const { return corner_[prev(h)]; }
-    [[nodiscard]] int twin(int h) const { return twin_[h]; }  ///< -1 on the boundary
-    [[nodiscard]] int edge(int h) const { return edge_[h]; }
+    [[nodiscard]] int corner(int f, int k) const { return face_[f].corner[k]; }
+    [[nodiscard]] int opposite_vertex(int h) const { return corner_of(h); }
+    [[nodiscard]] int tail(int h) const { return corner_of(next(h)); }
+    [[nodiscard]] int head(int h) const { return corner_of(prev(h)); }
+    [[nodiscard]] int twin(int h) const { return face_[h / 3].twin[h % 3]; }  ///< -1 on the boundary
+    [[nodiscard]] int edge(int h) const { return face_[h / 3].edge[h % 3]; }
     [[nodiscard]] int halfedge(int e) const { return edge_halfedge_[e]; }  ///< one of its halfedges
-    [[nodiscard]] bool is_boundary_edge(int e) const { return twin_[edge_halfedge_[e]] < 0; }
+    [[nodiscard]] bool is_boundary_edge(int e) const { return twin(edge_halfedge_[e]) < 0; }
+
+    /// The length stored on side h: 0 until set; flip() moves it with its side, split() leaves
+    /// it on the side it was on.
+    [[nodiscard]] double side_length(int h) const { return face_[h / 3].length[h % 3]; }
+    void set_side_length(int h, double length) { face_[h / 3].length[h % 3] = length; }
+    /// Requests the record of h's face into the cache (no effect on the mesh; h may be -1).
+    void prefetch(int h) const {
+        if (h >= 0) __builtin_prefetch(&face_[h / 3]);
+    }
 
     /// Replaces the diagonal of the two faces on interior edge e: with h = halfedge(e) in face
     /// (p, q, r) and its twin in (q, p, s), the faces become (r, p, s) and (s, q, r). The edge
     /// keeps its id (now joining r and s); the four outer sides keep theirs. Faces keep their
-    /// ids; halfedge(e) is afterwards in the first face and runs s -> r.
+    /// ids; halfedge(e) is afterwards in the first face and runs s -> r. The outer sides keep
+    /// their side lengths; those of e are left to the caller.
     /// \pre e is interior and its two faces are distinct.
     void flip(int e);
 
@@ -67,17 +78,27 @@ public:
     [[nodiscard]] Eigen::MatrixX3i faces() const;
 
 private:
+    // One cache line per face: a flip test reads and a flip writes two records.
+    struct alignas(64) Face {
+        double length[3];
+        int corner[3];
+        int twin[3];
+        int edge[3];
+    };
+
+    [[nodiscard]] int corner_of(int h) const { return face_[h / 3].corner[h % 3]; }
+    int& corner_of(int h) { return face_[h / 3].corner[h % 3]; }
+    int& twin_of(int h) { return face_[h / 3].twin[h % 3]; }
+    int& edge_of(int h) { return face_[h / 3].edge[h % 3]; }
     // Makes a and b twins (either may be -1 for a boundary side) with edge id e.
     void glue(int a, int b, int e);
-    // Gives slot `to` the twin and edge of slot `from`.
+    // Gives slot `to` the twin, edge and side length of slot `from`.
     void move_side(int from, int to);
     int add_face(int a, int b, int c);
     int add_edge();
 
     int num_vertices_ = 0;
-    std::vector<int> corner_;         // 3 per face
-    std::vector<int> twin_;           // per halfedge
-    std::vector<int> edge_;           // per halfedge
+    std::vector<Face> face_;
     std::vector<int> edge_halfedge_;  // per edge
 };
 

@@ -22,6 +22,9 @@ namespace {
 constexpr double kBelow = 1 - 32 * std::numeric_limits<double>::epsilon();
 constexpr double kAbove = 1 + 32 * std::numeric_limits<double>::epsilon();
 
+// How many pops ahead the flip loop requests face records.
+constexpr size_t kLookahead = 4;
+
 // Length of the new diagonal r-s of the hinge p, q, r, s (notation of ALGORITHMS.md §1:
 // l = |pq|, a = |rp|, b = |rq|, c = |sp|, d = |sq|). The hinge is laid out in the plane with p at
 // the origin, q at (l, 0), r = (x_r, y_r) above and s = (x_s, -y_s) below the axis, where
@@ -107,11 +110,15 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
     // edges of its hinge are pushed and so tested next, while they are still in cache.
     std::vector<char> queued;
     detail::prefaulted_assign(queued, static_cast<size_t>(ne), char{0});
+    // The same pass copies the edge lengths onto the sides of the mesh, so that a hinge test
+    // reads two face records instead of five scattered edge lengths.
     for (int f = 0; f < t.num_faces(); ++f) {
         detail::prefetch_sides_ahead(t, f);
-        for (int k = 0; k < 3; ++k)
+        for (int k = 0; k < 3; ++k) {
+            mesh.set_side_length(3 * f + k, t.side(f, k));
             if (cosine_numerator(t.side(f, k), t.side(f, (k + 1) % 3), t.side(f, (k + 2) % 3)) < 0)
                 queued[t.face_edge(f, k)] = 1;
+        }
     }
     std::vector<int> stack;
     for (int e = ne - 1; e >= 0; --e)
@@ -125,14 +132,20 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
         const int e = stack.back();
         stack.pop_back();
         queued[e] = 0;
+        // A test waits on two random face records; request those of the candidates a few pops
+        // down the stack, in two steps since the second face is read from the first.
+        const size_t n = stack.size();
+        if (n > 2 * kLookahead) mesh.prefetch(mesh.halfedge(stack[n - 1 - 2 * kLookahead]));
+        if (n > kLookahead) mesh.prefetch(mesh.twin(mesh.halfedge(stack[n - 1 - kLookahead])));
         // h runs p -> q in face (r, p, q), its twin q -> p in (s, q, p). An edge whose two sides
         // lie in one face is never flipped: its opposite angles are two corners of one triangle,
         // so it is LD.
         const int h = mesh.halfedge(e), tw = mesh.twin(h);
         if (tw < 0 || HalfedgeMesh::face(h) == HalfedgeMesh::face(tw)) continue;
-        const int e_rp = mesh.edge(HalfedgeMesh::prev(h)), e_qr = mesh.edge(HalfedgeMesh::next(h));
-        const int e_ps = mesh.edge(HalfedgeMesh::next(tw)), e_sq = mesh.edge(HalfedgeMesh::prev(tw));
-        const double l = len[e], a = len[e_rp], b = len[e_qr], c = len[e_ps], d = len[e_sq];
+        const int h_qr = HalfedgeMesh::next(h), h_rp = HalfedgeMesh::prev(h);
+        const int h_ps = HalfedgeMesh::next(tw), h_sq = HalfedgeMesh::prev(tw);
+        const double l = mesh.side_length(h), a = mesh.side_length(h_rp), b = mesh.side_length(h_qr);
+        const double c = mesh.side_length(h_ps), d = mesh.side_length(h_sq);
         // The same shortcut: two non-obtuse opposite angles make the edge LD.
         if (cosine_numerator(l, a, b) >= 0 && cosine_numerator(l, c, d) >= 0) continue;
         if (is_locally_delaunay(l, a, b, c, d, tolerance)) continue;
@@ -140,8 +153,16 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
             exhausted = true;
             break;
         }
-        len[e] = flipped_length(l, a, b, c, d);
+        const int e_rp = mesh.edge(h_rp), e_qr = mesh.edge(h_qr);
+        const int e_ps = mesh.edge(h_ps), e_sq = mesh.edge(h_sq);
+        const double rs = flipped_length(l, a, b, c, d);
+        len[e] = rs;
         mesh.flip(e);
+        mesh.set_side_length(mesh.halfedge(e), rs);  // both sides of e, now s->r and r->s
+        mesh.set_side_length(mesh.twin(mesh.halfedge(e)), rs);
+        // The outer edges are tested next, each needing the face across it.
+        const int f = HalfedgeMesh::face(h), g = HalfedgeMesh::face(tw);
+        for (const int side : {3 * f, 3 * f + 2, 3 * g, 3 * g + 2}) mesh.prefetch(mesh.twin(side));
         ++flips;
         push(e_rp), push(e_qr), push(e_ps), push(e_sq);
     }
