@@ -371,9 +371,11 @@ ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options
     ConversionReport& report = result.report;
     report.input_vertices = mesh.num_vertices();
     report.input_faces = mesh.num_faces();
-    Converter converter(mesh, edges, options);
-    converter.run(report);
-    result.mesh = converter.result();
+    {  // the converter's working memory is released before the output is certified
+        Converter converter(mesh, edges, options);
+        converter.run(report);
+        result.mesh = converter.result();
+    }
     report.output_vertices = result.mesh.num_vertices();
     report.output_faces = result.mesh.num_faces();
     report.certificate = certify(result.mesh, {.boundary = options.boundary, .tolerance = options.tolerance});
