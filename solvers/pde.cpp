@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <functional>
 #include <string>
 
 #include "sdmesh/error.hpp"
@@ -160,19 +162,42 @@ HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& opti
 // Not CHOLMOD's default ordering: on meshes AMD's fill is always high enough that the default
 // computes METIS's too and discards AMD's. Coarse nested dissection is ~40 % faster to compute
 // than METIS; its ~20 % more fill costs the factorizations little (igea: 6.9 s against 7.9 s
-// CPU for ordering and two factorizations).
+// CPU for ordering and two factorizations). M + tL, L and their pinned forms share L's pattern,
+// hence the ordering; the factorizations are independent, so they run side by side.
+HeatGeodesics::Factorizations HeatGeodesics::factorize(const Triangulation& t, const GeodesicOptions& options,
+                                                       const Sparse& L, const Sparse& M, double time) {
+    std::vector<int> boundary = options.average_boundary_conditions ? boundary_vertices(t) : std::vector<int>{};
+    if (boundary.size() == static_cast<size_t>(t.num_vertices)) boundary.clear();
+    CholeskySolver ordering;
+    ordering.analyze(L, {.ordering = CholeskyOrdering::coarse_nested_dissection});
+    const CholeskyOptions shared{.same_ordering_as = &ordering};
+    std::optional<HeatSolver> neumann_heat, dirichlet_heat;
+    std::optional<PoissonSolver> poisson;
+    std::vector<std::function<void()>> tasks = {[&] { neumann_heat.emplace(L, M, time, std::vector<int>{}, shared); },
+                                                [&] { poisson.emplace(L, M, std::vector<int>{}, shared); }};
+    if (!boundary.empty()) tasks.emplace_back([&] { dirichlet_heat.emplace(L, M, time, boundary, shared); });
+    // An exception must not leave an OpenMP region: each task's is kept, the first rethrown.
+    std::vector<std::exception_ptr> errors(tasks.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int i = 0; i < static_cast<int>(tasks.size()); ++i) {
+        try {
+            tasks[static_cast<size_t>(i)]();
+        } catch (...) {
+            errors[static_cast<size_t>(i)] = std::current_exception();
+        }
+    }
+    for (const std::exception_ptr& error : errors)
+        if (error) std::rethrow_exception(error);
+    return {std::move(*neumann_heat), std::move(dirichlet_heat), std::move(*poisson), static_cast<int>(boundary.size())};
+}
+
 HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& options,
                              std::chrono::steady_clock::time_point start, const Sparse& L, const Sparse& M)
     : num_vertices_(t.num_vertices),
       divergence_(divergence(t)),
       time_(heat_time(t, options)),
-      neumann_heat_(L, M, time_, {}, {.ordering = CholeskyOrdering::coarse_nested_dissection}),
-      poisson_(L, M, {}, {.same_ordering_as = &neumann_heat_.factorization()}) {
-    const std::vector<int> boundary = boundary_vertices(t);
-    if (options.average_boundary_conditions && !boundary.empty() && boundary.size() < size_t(t.num_vertices)) {
-        dirichlet_heat_.emplace(L, M, time_, boundary, CholeskyOptions{.same_ordering_as = &neumann_heat_.factorization()});
-        report_.boundary_vertices = static_cast<int>(boundary.size());
-    }
+      solvers_(factorize(t, options, L, M, time_)) {
+    report_.boundary_vertices = solvers_.dirichlet_vertices;
     component_ = detail::connected_components(L, component_count_);
     report_.time = time_;
     report_.precompute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -187,8 +212,8 @@ Eigen::VectorXd HeatGeodesics::distance(const std::vector<int>& sources) const {
                                        std::to_string(num_vertices_) + ")");
         u0[s] = 1;
     }
-    Eigen::VectorXd u = neumann_heat_.step(u0);
-    if (dirichlet_heat_) u = 0.5 * (u + dirichlet_heat_->step(u0));
+    Eigen::VectorXd u = solvers_.neumann_heat.step(u0);
+    if (solvers_.dirichlet_heat) u = 0.5 * (u + solvers_.dirichlet_heat->step(u0));
 
     // X = −∇u/|∇u| per face, from divᵀu = −area·∇u; faces where u is flat (to the last bit) get
     // no direction. Far from the sources u is ~1e-240 (igea) and the squares in norm() underflow
@@ -201,7 +226,7 @@ Eigen::VectorXd HeatGeodesics::distance(const std::vector<int>& sources) const {
         g = scale > 0 ? Eigen::Vector2d(g / scale).normalized() : Eigen::Vector2d::Zero();
     }
     // ∇φ = X in the weak sense: div ∇φ = −Lφ = div X.
-    Eigen::VectorXd phi = poisson_.solve(-(divergence_ * X));
+    Eigen::VectorXd phi = solvers_.poisson.solve(-(divergence_ * X));
 
     // Shift each component so that its sources average 0; +inf where no source is.
     Eigen::VectorXd sum = Eigen::VectorXd::Zero(component_count_), count = Eigen::VectorXd::Zero(component_count_);

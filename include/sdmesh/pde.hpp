@@ -115,8 +115,8 @@ struct GeodesicReport {
 /// hence on extrinsic meshes, converted self-Delaunay meshes and intrinsic triangulations alike:
 /// heat u from the sources for time t, X = −∇u/|∇u| per face, then L φ = −div X (Neumann), and φ
 /// shifted so that its mean over the sources of each component is 0. Factorizations are kept,
-/// so each further query costs three back-substitutions. The heat matrix gets a coarse nested
-/// dissection ordering, which the other factorizations (same pattern) reuse.
+/// so each further query costs three back-substitutions. They share one coarse nested
+/// dissection ordering of L's pattern and run concurrently on the OpenMP threads.
 class HeatGeodesics {
 public:
     /// \throws InvalidMeshError as the operators; InvalidArgumentError options.time <= 0;
@@ -135,12 +135,20 @@ private:
     HeatGeodesics(const Triangulation& t, const GeodesicOptions& options, std::chrono::steady_clock::time_point start,
                   const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M);
 
+    struct Factorizations {
+        HeatSolver neumann_heat;
+        std::optional<HeatSolver> dirichlet_heat;  // with boundary and averaging only
+        PoissonSolver poisson;
+        int dirichlet_vertices = 0;  // of dirichlet_heat
+    };
+    static Factorizations factorize(const Triangulation& t, const GeodesicOptions& options,
+                                    const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M,
+                                    double time);
+
     int num_vertices_ = 0;
     Eigen::SparseMatrix<double> divergence_;  // −Gᵀ·area: its transpose is −area·∇ per face
     double time_ = 0;
-    HeatSolver neumann_heat_;
-    std::optional<HeatSolver> dirichlet_heat_;  // with boundary and averaging only
-    PoissonSolver poisson_;
+    Factorizations solvers_;
     std::vector<int> component_;
     int component_count_ = 0;
     GeodesicReport report_;
