@@ -1,7 +1,8 @@
 #include "sdmesh/delaunay.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <memory>
+#include <limits>
 #include <vector>
 
 #include "sdmesh/error.hpp"
@@ -57,12 +58,14 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     require_indices_in_range(mesh);
     require_finite_positions(mesh);
     const auto& F = mesh.F;
+    const auto& E = edges.E;
+    const auto& H = edges.edge_halfedges;
     const int num_faces = mesh.num_faces();
     const int num_edges = edges.num_edges();
     const int num_vertices = mesh.num_vertices();
     const double tol = options.tolerance;
 
-    // Positions packed per vertex (the loops below read them in random order) and scaled by a
+    // Positions packed per vertex (the loop below reads them in random order) and scaled by a
     // power of two that brings the largest coordinate near 1: exact in floating point, so the
     // verdicts are those of the input, while squared lengths of coordinates near the ends of the
     // double range (1e300, 1e-300) neither overflow nor underflow. Dual areas are scaled back.
@@ -73,81 +76,105 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     detail::prefault(P);
     for (int v = 0; v < num_vertices; ++v) P[v] = scale * mesh.V.row(v).transpose();
 
-    // Per face, in one cache line: 4·area, the cosine numerators of the three corners and the
-    // circumsphere. Side lengths come from positions, so both faces of an edge see the same bits.
-    struct alignas(64) Face {
-        double area4, cosine[3];
-        Eigen::Vector3d center;
-        double radius2;
+    // No per-face array: each edge recomputes what it needs of its faces from the four vertices
+    // of its hinge. On this kind of machine the first write to fresh memory costs far more than
+    // the arithmetic. The bits are those of a per-face pass: a side length is the distance of
+    // the same two points whichever face asks, area and cosine numerator are symmetric in the
+    // sides, and the circumcentre takes the corners in the face's own order.
+    struct Wing {                        // face of halfedge h, seen from its side (l, b, c)
+        const Eigen::Vector3d* corner[3];  // the face's corners in its own order
+        double area4, cosine;              // 4·area, b² + c² - l²
     };
-    const std::unique_ptr<Face[]> face(new Face[num_faces]);  // uninitialised: every entry is written
-    detail::prefault(face.get(), sizeof(Face) * static_cast<std::size_t>(num_faces));
-    // Both loops are bound by the latency of random reads (positions, faces); they request the
-    // data of a later iteration ahead, which halves their time on large meshes.
-    constexpr int kAhead = 16;
-#pragma omp parallel for schedule(static)
-    for (int f = 0; f < num_faces; ++f) {
-        if (f + kAhead < num_faces)
-            for (int k = 0; k < 3; ++k) __builtin_prefetch(&P[F(f + kAhead, k)]);
-        Face& t = face[f];
-        if (has_repeated_index(F, f)) {
-            t = Face{0, {0, 0, 0}, Eigen::Vector3d::Zero(), 0};
-            continue;
-        }
-        const Eigen::Vector3d &p = P[F(f, 0)], &q = P[F(f, 1)], &r = P[F(f, 2)];
-        const double l[3] = {distance(r, q), distance(p, r), distance(q, p)};
-        t.area4 = 4.0 * triangle_area(l[0], l[1], l[2]);
-        for (int k = 0; k < 3; ++k) t.cosine[k] = cosine_numerator(l[k], l[(k + 1) % 3], l[(k + 2) % 3]);
-        t.center = circumcenter(p, q, r);
-        t.radius2 = (t.center - p).squaredNorm();
-    }
+    const auto wing = [&](int h, int i, int j, double l) {
+        const int f = h / 3, k = h % 3;
+        const Eigen::Vector3d& o = P[F(f, k)];
+        const bool forward = F(f, (k + 1) % 3) == i;  // the side runs from i to j
+        Wing w;
+        w.corner[k] = &o;
+        w.corner[(k + 1) % 3] = &P[forward ? i : j];
+        w.corner[(k + 2) % 3] = &P[forward ? j : i];
+        const double b = distance(o, P[i]), c = distance(o, P[j]);
+        w.area4 = 4.0 * triangle_area(l, b, c);
+        w.cosine = cosine_numerator(l, b, c);
+        return w;
+    };
+    const auto opposite = [](const Wing& w, int h) -> const Eigen::Vector3d& { return *w.corner[h % 3]; };
+    // Circumsphere test of the Gabriel property: is p strictly inside (beyond the tolerance)?
+    const double shrink = 1.0 - 2.0 * tol;
+    const auto inside = [shrink](const Wing& w, const Eigen::Vector3d& p) {
+        const Eigen::Vector3d center = circumcenter(*w.corner[0], *w.corner[1], *w.corner[2]);
+        return (p - center).squaredNorm() < shrink * (center - *w.corner[0]).squaredNorm();
+    };
 
-    // Per edge: margin, dual-area term l²(cot α + cot β)/8, Gabriel test. Each edge is written by
-    // one thread; counts are integer sums, so the result does not depend on the thread count.
     DelaunayCertificate cert;
-    cert.edge_margin = detail::prefaulted_constant<Eigen::VectorXd>(num_edges, 1, std::numeric_limits<double>::quiet_NaN());
-    Eigen::VectorXd dual_term(num_edges);
-    detail::prefault(dual_term);
-    const double shrink = 1.0 - 2.0 * tol;  // "strictly inside", beyond the tolerance
+    cert.edge_margin.resize(num_edges);
+    detail::prefault(cert.edge_margin);
+    cert.dual_area = detail::prefaulted_constant<Eigen::VectorXd>(num_vertices, 1, 0.0);
+    auto dual_magnitude = detail::prefaulted_constant<Eigen::VectorXd>(num_vertices, 1, 0.0);
+
+    // Edges in blocks: per edge its margin, dual-area term l²(cot α + cot β)/8 and Gabriel test;
+    // then, block after block in edge order, the terms are added to the dual areas of the
+    // endpoints and the smallest interior margin is updated (first edge on ties). Every sum and
+    // minimum is thus taken in edge order whatever the thread count, while one thread's ordered
+    // section overlaps the others' arithmetic.
+    constexpr int kBlock = 2048;
+    const int num_blocks = (num_edges + kBlock - 1) / kBlock;
+    // The loop is bound by the latency of random reads (faces, then positions); it requests the
+    // data of a later edge ahead, in two stages.
+    constexpr int kAhead = 16;
     int interior = 0, boundary = 0, nonmanifold = 0, non_delaunay = 0, obtuse = 0, gabriel = 0;
-#pragma omp parallel for schedule(static) reduction(+ : interior, boundary, nonmanifold, non_delaunay, obtuse, gabriel)
-    for (int e = 0; e < num_edges; ++e) {
-        // Two stages: the faces of edge e + 2·kAhead, then the vertices of e + kAhead.
-        if (e + 2 * kAhead < num_edges)
-            for (const int h : edges.edge_halfedges.row(e + 2 * kAhead))
-                if (h >= 0) __builtin_prefetch(&face[h / 3]), __builtin_prefetch(&F(h / 3, h % 3));
-        if (e + kAhead < num_edges) {
-            for (const int h : edges.edge_halfedges.row(e + kAhead))
-                if (h >= 0) __builtin_prefetch(&P[F(h / 3, h % 3)]);
-            __builtin_prefetch(&P[edges.E(e + kAhead, 1)]);
+#pragma omp parallel for ordered schedule(static, 1) reduction(+ : interior, boundary, nonmanifold, non_delaunay, obtuse, gabriel)
+    for (int block = 0; block < num_blocks; ++block) {
+        const int begin = block * kBlock, end = std::min(begin + kBlock, num_edges);
+        double term[kBlock];
+        for (int e = begin; e < end; ++e) {
+            if (e + 2 * kAhead < num_edges)
+                for (const int h : H.row(e + 2 * kAhead))
+                    if (h >= 0) __builtin_prefetch(&F(h / 3, h % 3)), __builtin_prefetch(&F(h / 3, (h + 1) % 3));
+            if (e + kAhead < num_edges) {
+                for (const int h : H.row(e + kAhead))
+                    if (h >= 0) __builtin_prefetch(&P[F(h / 3, h % 3)]);
+                __builtin_prefetch(&P[E(e + kAhead, 1)]);
+            }
+            const int count = edges.face_count[e];
+            if (count > 2) {
+                ++nonmanifold;
+                cert.edge_margin[e] = std::numeric_limits<double>::quiet_NaN();
+                term[e - begin] = 0;
+                continue;
+            }
+            const int i = E(e, 0), j = E(e, 1), h0 = H(e, 0);
+            const double l = distance(P[j], P[i]);
+            const Wing w0 = wing(h0, i, j, l);
+            double margin, cot_sum;
+            if (count == 2) {
+                ++interior;
+                const int h1 = H(e, 1);
+                const Wing w1 = wing(h1, i, j, l);
+                margin = margin_from_scaled(w0.area4, w0.cosine, w1.area4, w1.cosine);
+                cot_sum = w0.cosine / w0.area4 + w1.cosine / w1.area4;
+                non_delaunay += margin < -tol;
+                gabriel += inside(w0, opposite(w1, h1)) || inside(w1, opposite(w0, h0));
+            } else {
+                ++boundary;
+                margin = std::atan2(w0.cosine, w0.area4);
+                cot_sum = w0.cosine / w0.area4;
+                obtuse += margin < -tol;
+            }
+            cert.edge_margin[e] = margin;
+            term[e - begin] = l * l * cot_sum / 8.0;
         }
-        const int count = edges.face_count[e];
-        const int h0 = edges.edge_halfedges(e, 0), h1 = edges.edge_halfedges(e, 1);
-        const Face& t0 = face[h0 / 3];
-        double margin, cot_sum;
-        if (count == 2) {
-            ++interior;
-            const Face& t1 = face[h1 / 3];
-            const double c0 = t0.cosine[h0 % 3], c1 = t1.cosine[h1 % 3];
-            margin = margin_from_scaled(t0.area4, c0, t1.area4, c1);
-            cot_sum = c0 / t0.area4 + c1 / t1.area4;
-            non_delaunay += margin < -tol;
-            const Eigen::Vector3d &r = P[F(h0 / 3, h0 % 3)], &s = P[F(h1 / 3, h1 % 3)];
-            gabriel += (s - t0.center).squaredNorm() < shrink * t0.radius2 ||
-                       (r - t1.center).squaredNorm() < shrink * t1.radius2;
-        } else if (count == 1) {
-            ++boundary;
-            margin = std::atan2(t0.cosine[h0 % 3], t0.area4);
-            cot_sum = t0.cosine[h0 % 3] / t0.area4;
-            obtuse += margin < -tol;
-        } else {
-            ++nonmanifold;
-            dual_term[e] = 0;
-            continue;
+#pragma omp ordered
+        for (int e = begin; e < end; ++e) {
+            if (edges.face_count[e] == 2 && cert.edge_margin[e] < cert.min_delaunay_margin) {
+                cert.min_delaunay_margin = cert.edge_margin[e];
+                cert.worst_edge = e;
+            }
+            for (int side = 0; side < 2; ++side) {
+                cert.dual_area[E(e, side)] += term[e - begin];
+                dual_magnitude[E(e, side)] += std::abs(term[e - begin]);
+            }
         }
-        cert.edge_margin[e] = margin;
-        const double l = distance(P[edges.E(e, 1)], P[edges.E(e, 0)]);
-        dual_term[e] = l * l * cot_sum / 8.0;
     }
     cert.interior_edges = interior;
     cert.boundary_edges = boundary;
@@ -157,20 +184,6 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     cert.negative_cotan_weights = non_delaunay + obtuse;
     cert.gabriel_violations = gabriel;
 
-    // Serial passes: the smallest interior margin (first edge on ties) and the dual areas, summed
-    // in edge order so that they are bit-identical for any thread count.
-    cert.dual_area = detail::prefaulted_constant<Eigen::VectorXd>(num_vertices, 1, 0.0);
-    auto dual_magnitude = detail::prefaulted_constant<Eigen::VectorXd>(num_vertices, 1, 0.0);
-    for (int e = 0; e < num_edges; ++e) {
-        if (edges.face_count[e] == 2 && cert.edge_margin[e] < cert.min_delaunay_margin) {
-            cert.min_delaunay_margin = cert.edge_margin[e];
-            cert.worst_edge = e;
-        }
-        for (int side = 0; side < 2; ++side) {
-            cert.dual_area[edges.E(e, side)] += dual_term[e];
-            dual_magnitude[edges.E(e, side)] += std::abs(dual_term[e]);
-        }
-    }
     for (int v = 0; v < num_vertices; ++v)
         if (dual_magnitude[v] > 0 || !std::isfinite(dual_magnitude[v]))
             cert.negative_dual_cells += !(cert.dual_area[v] >= -tol * dual_magnitude[v]);
