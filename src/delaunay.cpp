@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include <omp.h>
+
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
 #include "prefault.hpp"
@@ -77,10 +79,11 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     for (int v = 0; v < num_vertices; ++v) P[v] = scale * mesh.V.row(v).transpose();
 
     // No per-face array: each edge recomputes what it needs of its faces from the four vertices
-    // of its hinge. On this kind of machine the first write to fresh memory costs far more than
-    // the arithmetic. The bits are those of a per-face pass: a side length is the distance of
-    // the same two points whichever face asks, area and cosine numerator are symmetric in the
-    // sides, and the circumcentre takes the corners in the face's own order.
+    // of its hinge, since on a virtual machine the first write to fresh memory (~1.4 ms/MB even
+    // prefaulted) costs more than this arithmetic. The bits are those of a per-face pass: a side
+    // length is the distance of the same two points whichever face asks, area and cosine
+    // numerator are symmetric in the sides, and the circumcentre takes the corners in the face's
+    // own order.
     struct Wing {                        // face of halfedge h, seen from its side (l, b, c)
         const Eigen::Vector3d* corner[3];  // the face's corners in its own order
         double area4, cosine;              // 4·area, b² + c² - l²
@@ -112,21 +115,15 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     cert.dual_area = detail::prefaulted_constant<Eigen::VectorXd>(num_vertices, 1, 0.0);
     auto dual_magnitude = detail::prefaulted_constant<Eigen::VectorXd>(num_vertices, 1, 0.0);
 
-    // Edges in blocks: per edge its margin, dual-area term l²(cot α + cot β)/8 and Gabriel test;
-    // then, block after block in edge order, the terms are added to the dual areas of the
-    // endpoints and the smallest interior margin is updated (first edge on ties). Every sum and
-    // minimum is thus taken in edge order whatever the thread count, while one thread's ordered
-    // section overlaps the others' arithmetic.
-    constexpr int kBlock = 2048;
-    const int num_blocks = (num_edges + kBlock - 1) / kBlock;
-    // The loop is bound by the latency of random reads (faces, then positions); it requests the
-    // data of a later edge ahead, in two stages.
+    // Per edge of [begin, end): margin, dual-area term l²(cot α + cot β)/8 (into term[e - begin])
+    // and Gabriel test. The counts are integer sums, the same for any split of the edges.
+    struct Counts {
+        int interior = 0, boundary = 0, nonmanifold = 0, non_delaunay = 0, obtuse = 0, gabriel = 0;
+    };
+    // The random reads (face corners, then positions) of a later edge are requested ahead, in
+    // two stages: without this the loop waits on memory most of the time.
     constexpr int kAhead = 16;
-    int interior = 0, boundary = 0, nonmanifold = 0, non_delaunay = 0, obtuse = 0, gabriel = 0;
-#pragma omp parallel for ordered schedule(static, 1) reduction(+ : interior, boundary, nonmanifold, non_delaunay, obtuse, gabriel)
-    for (int block = 0; block < num_blocks; ++block) {
-        const int begin = block * kBlock, end = std::min(begin + kBlock, num_edges);
-        double term[kBlock];
+    const auto judge = [&](int begin, int end, double* term, Counts& n) {
         for (int e = begin; e < end; ++e) {
             if (e + 2 * kAhead < num_edges)
                 for (const int h : H.row(e + 2 * kAhead))
@@ -138,7 +135,7 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
             }
             const int count = edges.face_count[e];
             if (count > 2) {
-                ++nonmanifold;
+                ++n.nonmanifold;
                 cert.edge_margin[e] = std::numeric_limits<double>::quiet_NaN();
                 term[e - begin] = 0;
                 continue;
@@ -148,23 +145,26 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
             const Wing w0 = wing(h0, i, j, l);
             double margin, cot_sum;
             if (count == 2) {
-                ++interior;
+                ++n.interior;
                 const int h1 = H(e, 1);
                 const Wing w1 = wing(h1, i, j, l);
                 margin = margin_from_scaled(w0.area4, w0.cosine, w1.area4, w1.cosine);
                 cot_sum = w0.cosine / w0.area4 + w1.cosine / w1.area4;
-                non_delaunay += margin < -tol;
-                gabriel += inside(w0, opposite(w1, h1)) || inside(w1, opposite(w0, h0));
+                n.non_delaunay += margin < -tol;
+                n.gabriel += inside(w0, opposite(w1, h1)) || inside(w1, opposite(w0, h0));
             } else {
-                ++boundary;
+                ++n.boundary;
                 margin = std::atan2(w0.cosine, w0.area4);
                 cot_sum = w0.cosine / w0.area4;
-                obtuse += margin < -tol;
+                n.obtuse += margin < -tol;
             }
             cert.edge_margin[e] = margin;
             term[e - begin] = l * l * cot_sum / 8.0;
         }
-#pragma omp ordered
+    };
+    // The smallest interior margin (first edge on ties) and the dual areas, taken in edge order
+    // so that they are bit-identical for any thread count.
+    const auto add = [&](int begin, int end, const double* term) {
         for (int e = begin; e < end; ++e) {
             if (edges.face_count[e] == 2 && cert.edge_margin[e] < cert.min_delaunay_margin) {
                 cert.min_delaunay_margin = cert.edge_margin[e];
@@ -175,14 +175,49 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
                 dual_magnitude[E(e, side)] += std::abs(term[e - begin]);
             }
         }
+    };
+
+    constexpr int kBlock = 2048;
+    const int num_blocks = (num_edges + kBlock - 1) / kBlock;
+    Counts n;
+    if (omp_get_max_threads() == 1) {
+        // One thread adds the terms of each block while they are in cache: no per-edge array.
+        double term[kBlock];
+        for (int block = 0; block < num_blocks; ++block) {
+            const int begin = block * kBlock, end = std::min(begin + kBlock, num_edges);
+            judge(begin, end, term, n);
+            add(begin, end, term);
+        }
+    } else {
+        // Several threads keep every term and one adds them after the loop. (Adding block after
+        // block in an ordered section instead stalls the whole team whenever one thread is
+        // descheduled: 2-6x slower on a busy 2-core machine.)
+        Eigen::VectorXd term(num_edges);
+        detail::prefault(term);
+#pragma omp parallel
+        {
+            Counts local;
+#pragma omp for schedule(static)
+            for (int block = 0; block < num_blocks; ++block) {
+                const int begin = block * kBlock, end = std::min(begin + kBlock, num_edges);
+                judge(begin, end, &term[begin], local);
+            }
+#pragma omp critical
+            {
+                n.interior += local.interior, n.boundary += local.boundary;
+                n.nonmanifold += local.nonmanifold, n.non_delaunay += local.non_delaunay;
+                n.obtuse += local.obtuse, n.gabriel += local.gabriel;
+            }
+        }
+        add(0, num_edges, term.data());
     }
-    cert.interior_edges = interior;
-    cert.boundary_edges = boundary;
-    cert.nonmanifold_edges = nonmanifold;
-    cert.non_delaunay_edges = non_delaunay;
-    cert.boundary_obtuse_edges = obtuse;
-    cert.negative_cotan_weights = non_delaunay + obtuse;
-    cert.gabriel_violations = gabriel;
+    cert.interior_edges = n.interior;
+    cert.boundary_edges = n.boundary;
+    cert.nonmanifold_edges = n.nonmanifold;
+    cert.non_delaunay_edges = n.non_delaunay;
+    cert.boundary_obtuse_edges = n.obtuse;
+    cert.negative_cotan_weights = n.non_delaunay + n.obtuse;
+    cert.gabriel_violations = n.gabriel;
 
     for (int v = 0; v < num_vertices; ++v)
         if (dual_magnitude[v] > 0 || !std::isfinite(dual_magnitude[v]))
