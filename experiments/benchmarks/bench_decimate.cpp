@@ -16,8 +16,9 @@ const sdmesh::TriangleMesh& converted() {
 }
 
 void run(benchmark::State& state, sdmesh::DecimateOptions options) {
+    const sdmesh::TriangleMesh& mesh = converted();  // converted once, outside the timing
     sdmesh::DecimateReport report;
-    for (auto _ : state) report = sdmesh::decimate(converted(), options).report;
+    for (auto _ : state) report = sdmesh::decimate(mesh, options).report;
     state.counters["input_vertices"] = static_cast<double>(report.input_vertices);
     state.counters["output_vertices"] = static_cast<double>(report.output_vertices);
     state.counters["collapses"] = static_cast<double>(report.collapses);
