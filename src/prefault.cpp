@@ -16,15 +16,8 @@ void prefault(void* data, std::size_t bytes) {
     static const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
     const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) & ~(page - 1);
     const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(page - 1);
-    if (end <= begin) return;
-    // Only whole pages inside the block. 2 MB pages first, where the kernel grants them on
-    // request (transparent huge pages in "madvise" mode): ~500× fewer pages to map, and far fewer
-    // TLB misses in the random reads of the loops over these arrays. Failures (old kernel, huge
-    // pages disabled) just leave small pages or the lazy faults.
-#if defined(MADV_HUGEPAGE)
-    (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#endif
-    (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
+    // Only whole pages inside the block; a failure (old kernel) just leaves the lazy faults.
+    if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
 #else
     (void)data;
     (void)bytes;

@@ -2,8 +2,7 @@
 // Fresh large buffers get their pages from the kernel one fault at a time on first write; on a
 // virtual machine each fault is a trap to the hypervisor and filling 100 MB this way costs ~10×
 // the writes themselves. prefault() maps all pages of a block in one system call instead
-// (MADV_POPULATE_WRITE, Linux >= 5.14), as 2 MB pages where the kernel grants them
-// (MADV_HUGEPAGE). Small blocks, other systems and older kernels: no-op.
+// (MADV_POPULATE_WRITE, Linux >= 5.14). Small blocks, other systems and older kernels: no-op.
 
 #include <cstddef>
 #include <vector>
