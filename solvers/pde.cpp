@@ -6,6 +6,8 @@
 #include <functional>
 #include <string>
 
+#include <omp.h>
+
 #include "sdmesh/error.hpp"
 
 #include "free_vertices.hpp"
@@ -178,13 +180,21 @@ HeatGeodesics::Factorizations HeatGeodesics::factorize(const Triangulation& t, c
     if (!boundary.empty()) tasks.emplace_back([&] { dirichlet_heat.emplace(L, M, time, boundary, shared); });
     // An exception must not leave an OpenMP region: each task's is kept, the first rethrown.
     std::vector<std::exception_ptr> errors(tasks.size());
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int i = 0; i < static_cast<int>(tasks.size()); ++i) {
+    const auto run = [&](int i) {
         try {
             tasks[static_cast<size_t>(i)]();
         } catch (...) {
             errors[static_cast<size_t>(i)] = std::current_exception();
         }
+    };
+    const int count = static_cast<int>(tasks.size());
+    // One thread: no OpenMP region at all. Inside one, even of a single thread, CHOLMOD's
+    // factorizations (BLAS from OpenBLAS's OpenMP build) ran 6x slower (igea: 21-24 s, not 3.6 s).
+    if (omp_get_max_threads() > 1) {
+#pragma omp parallel for schedule(dynamic, 1)
+        for (int i = 0; i < count; ++i) run(i);
+    } else {
+        for (int i = 0; i < count; ++i) run(i);
     }
     for (const std::exception_ptr& error : errors)
         if (error) std::rethrow_exception(error);
