@@ -2,35 +2,11 @@
 
 #include <algorithm>
 #include <array>
-#include <cstddef>
-#include <cstdint>
 #include <utility>
 
 #include "prefault.hpp"
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 namespace sdmesh {
-namespace {
-
-// Asks for 2 MB pages on the whole 4 KB pages of a block (before it is first written): flip loops
-// read the face records at random, and with small pages nearly every read also misses the TLB.
-void advise_huge_pages(void* data, std::size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    constexpr std::uintptr_t page = 4096;
-    const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) & ~(page - 1);
-    const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(page - 1);
-    // A refusal (THP disabled) only leaves small pages.
-    if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#else
-    (void)data;
-    (void)bytes;
-#endif
-}
-
-}  // namespace
 
 HalfedgeMesh::HalfedgeMesh(const Triangulation& t)
     : HalfedgeMesh(t.F, t.face_edge, t.edge_halfedges, t.num_vertices) {}
@@ -41,7 +17,8 @@ HalfedgeMesh::HalfedgeMesh(const Eigen::MatrixX3i& F, const Eigen::MatrixX3i& fa
     // Records written whole, in face order, into premapped pages; twins then scattered per edge.
     const auto num_faces = static_cast<size_t>(F.rows());
     face_.reserve(num_faces);
-    advise_huge_pages(face_.data(), num_faces * sizeof(Face));
+    // Flip loops read the records at random: with small pages nearly every read also misses the TLB.
+    detail::request_huge_pages(face_.data(), num_faces * sizeof(Face));
     detail::prefault(face_.data(), num_faces * sizeof(Face));
     for (int f = 0; f < F.rows(); ++f)
         face_.push_back({{0, 0, 0},

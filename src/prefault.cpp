@@ -8,16 +8,34 @@
 #endif
 
 namespace sdmesh::detail {
+namespace {
+
+#if defined(__linux__)
+// madvise on the whole pages inside the block; a refusal (old kernel, feature disabled) only
+// leaves the default behaviour.
+void advise_whole_pages(void* data, std::size_t bytes, int advice) {
+    static const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+    const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) & ~(page - 1);
+    const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(page - 1);
+    if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, advice);
+}
+#endif
+
+}  // namespace
 
 void prefault(void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_POPULATE_WRITE)
     constexpr std::size_t kWorthIt = std::size_t(1) << 20;  // below this, faults are cheap enough
-    if (data == nullptr || bytes < kWorthIt) return;
-    static const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
-    const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) & ~(page - 1);
-    const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(page - 1);
-    // Only whole pages inside the block; a failure (old kernel) just leaves the lazy faults.
-    if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
+    if (data != nullptr && bytes >= kWorthIt) advise_whole_pages(data, bytes, MADV_POPULATE_WRITE);
+#else
+    (void)data;
+    (void)bytes;
+#endif
+}
+
+void request_huge_pages(void* data, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (data != nullptr) advise_whole_pages(data, bytes, MADV_HUGEPAGE);
 #else
     (void)data;
     (void)bytes;
