@@ -159,11 +159,11 @@ public:
             // Collapses refused too often wait for the next round, which starts when the queue
             // runs dry; a round without a collapse means that nothing allowable is left.
             if (queue_.empty()) {
-                if (report.collapses == collapses_before_round || deferred_.empty()) {
+                if (collapses_ == collapses_before_round || deferred_.empty()) {
                     report.status = DecimateStatus::stalled;
                     break;
                 }
-                collapses_before_round = report.collapses;
+                collapses_before_round = collapses_;
                 for (const auto& [u, w] : deferred_)
                     if (alive_[u] && alive_[w] && adjacent(u, w)) push(u, w);
                 deferred_.clear();
@@ -195,7 +195,7 @@ public:
                 continue;
             }
             collapse(keep, drop, x);
-            ++report.collapses;
+            report.collapses = collapses_;
             while (next_level < options_.levels.size() && live_vertices_ <= options_.levels[next_level]) {
                 levels.push_back(result(input_vertex));
                 ++next_level;
@@ -203,7 +203,7 @@ public:
             if (options_.progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
                 last_progress = Clock::now();
                 std::fprintf(stderr, "decimate: %lld vertices, %lld collapses, %zu queued\n", live_vertices_,
-                             report.collapses, queue_.size());
+                             collapses_, queue_.size());
             }
         }
     }
@@ -777,7 +777,7 @@ private:
     long long live_vertices_ = 0;
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue_;
     std::vector<Checked> checked_;   // of the queued candidates with checked >= 0
-    long long collapses_ = 0;
+    long long collapses_ = 0;  // done so far; numbers the collapses for touched_
     std::vector<long long> touched_;  // per vertex: the last collapse that changed its star (see untouched_since)
     std::vector<int> free_checked_;  // unused entries of checked_
     // Scratch of the collapse being evaluated.
