@@ -1,7 +1,10 @@
 // The Delaunay certificate on meshes made in code.
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <random>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -53,7 +56,7 @@ TEST(Certificate, FlatHingeHasTheExpectedMargin) {
         const Eigen::Vector3d s = Eigen::AngleAxisd(fold, Eigen::Vector3d::UnitX()) * Eigen::Vector3d(0.5, -0.2, 0);
         const TriangleMesh hinge = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.2, 0}, s.transpose()},
                                              {{0, 1, 2}, {1, 0, 3}});
-        const DelaunayCertificate cert = certify(hinge);
+        const DelaunayCertificate cert = certify(hinge, {.edge_margins = true});
         EXPECT_EQ(cert.interior_edges, 1);
         EXPECT_EQ(cert.non_delaunay_edges, 1);
         EXPECT_EQ(cert.boundary_edges, 4);
@@ -72,7 +75,7 @@ TEST(Certificate, FlatHingeHasTheExpectedMargin) {
 TEST(Certificate, BoundaryPolicies) {
     // One triangle with an obtuse angle (at vertex 2) opposite the boundary edge (0, 1).
     const TriangleMesh obtuse = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.1, 0}}, {{0, 1, 2}});
-    const DelaunayCertificate strict = certify(obtuse);
+    const DelaunayCertificate strict = certify(obtuse, {.edge_margins = true});
     EXPECT_EQ(strict.boundary_obtuse_edges, 1);
     EXPECT_FALSE(strict.self_delaunay);
     const DelaunayCertificate free = certify(obtuse, {.boundary = BoundaryPolicy::free});
@@ -129,11 +132,11 @@ TEST(Certificate, VerdictsAreScaleInvariant) {
 
 TEST(Certificate, PowerOfTwoScalingChangesNoBit) {
     const TriangleMesh base = test::make_negative_dual_fan();
-    const DelaunayCertificate reference = certify(base);
+    const DelaunayCertificate reference = certify(base, {.edge_margins = true});
     for (const int exponent : {-1000, -20, 20, 1000}) {
         TriangleMesh scaled = base;
         scaled.V *= std::ldexp(1.0, exponent);
-        const DelaunayCertificate cert = certify(scaled);
+        const DelaunayCertificate cert = certify(scaled, {.edge_margins = true});
         EXPECT_EQ(cert.edge_margin, reference.edge_margin) << exponent;
         if (std::abs(exponent) < 500) {  // dual areas scale by the square, within the double range
             EXPECT_EQ(cert.dual_area, std::ldexp(1.0, 2 * exponent) * reference.dual_area);
@@ -146,7 +149,7 @@ TEST(Certificate, SkewedGridIsNotDelaunay) {
     const DelaunayCertificate straight = certify(make_grid(4, 4));
     EXPECT_TRUE(straight.self_delaunay);  // right triangles: co-circular, margin 0 within tolerance
     const TriangleMesh grid = make_grid(4, 4, 1.0, 1.0, 1.5);
-    const DelaunayCertificate skewed = certify(grid);
+    const DelaunayCertificate skewed = certify(grid, {.edge_margins = true});
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 4; ++i) {
             const int diagonal = edge_index(grid, j * 5 + i, (j + 1) * 5 + i + 1);
@@ -155,11 +158,65 @@ TEST(Certificate, SkewedGridIsNotDelaunay) {
     EXPECT_GE(skewed.non_delaunay_edges, 16);
 }
 
+// The counts and the least margin come without arctangents; they must agree with the margins.
+TEST(Certificate, CountsAgreeWithTheEdgeMargins) {
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    TriangleMesh bumpy = make_icosphere(3);
+    for (int v = 0; v < bumpy.num_vertices(); ++v) bumpy.V.row(v) *= 1.0 + noise(rng);
+    for (const TriangleMesh& mesh :
+         {bumpy, make_grid(6, 5, 1.0, 1.0, 1.5), test::make_negative_dual_fan(), make_icosphere(2)}) {
+        const DelaunayCertificate lean = certify(mesh);
+        EXPECT_EQ(lean.edge_margin.size(), 0);
+        const DelaunayCertificate cert = certify(mesh, {.edge_margins = true});
+        const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
+        int non_delaunay = 0, obtuse = 0;
+        double least = std::numeric_limits<double>::infinity();
+        for (int e = 0; e < edges.num_edges(); ++e) {
+            const double margin = cert.edge_margin[e];
+            if (edges.face_count[e] == 2) non_delaunay += margin < -kDelaunayTolerance, least = std::min(least, margin);
+            if (edges.face_count[e] == 1) obtuse += margin < -kDelaunayTolerance;
+        }
+        EXPECT_EQ(cert.non_delaunay_edges, non_delaunay);
+        EXPECT_EQ(lean.non_delaunay_edges, non_delaunay);
+        EXPECT_EQ(cert.boundary_obtuse_edges, obtuse);
+        EXPECT_EQ(cert.min_delaunay_margin, cert.edge_margin[cert.worst_edge]);
+        EXPECT_NEAR(cert.min_delaunay_margin, least, 1e-15);
+        EXPECT_EQ(lean.min_delaunay_margin, cert.min_delaunay_margin);
+        EXPECT_EQ(lean.worst_edge, cert.worst_edge);
+        EXPECT_EQ(lean.dual_area, cert.dual_area);
+    }
+}
+
+// The Gabriel test works on squared lengths; here it meets the circumsphere through the
+// circumcentre in space, on random folded hinges (away from ties, where rounding decides).
+TEST(Certificate, GabrielTestMatchesCircumspheres) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> coordinate(-1.0, 1.0);
+    const auto point = [&] { return Eigen::RowVector3d(coordinate(rng), coordinate(rng), coordinate(rng)); };
+    const auto inside = [](const TriangleMesh& m, int a, int b, int c, int p) {
+        const Eigen::Vector3d center = circumcenter(m.V.row(a), m.V.row(b), m.V.row(c));
+        return ((m.V.row(p).transpose() - center).squaredNorm() / (m.V.row(a).transpose() - center).squaredNorm());
+    };
+    int compared = 0, violations = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const TriangleMesh hinge = make_mesh({point(), point(), point(), point()}, {{0, 1, 2}, {1, 0, 3}});
+        const double ratio2 = inside(hinge, 0, 1, 2, 3), ratio3 = inside(hinge, 1, 0, 3, 2);
+        if (std::abs(ratio2 - 1) < 1e-6 || std::abs(ratio3 - 1) < 1e-6) continue;
+        const int expected = ratio2 < 1 || ratio3 < 1;
+        EXPECT_EQ(certify(hinge).gabriel_violations, expected) << "trial " << trial;
+        ++compared, violations += expected;
+    }
+    EXPECT_GT(compared, 19000);
+    EXPECT_GT(violations, 1000);
+    EXPECT_LT(violations, compared - 1000);
+}
+
 TEST(Certificate, NonManifoldPartsAreCountedNotJudged) {
     // Three triangles on edge (0, 1).
     const TriangleMesh fin = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}},
                                        {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
-    const DelaunayCertificate cert = certify(fin);
+    const DelaunayCertificate cert = certify(fin, {.edge_margins = true});
     EXPECT_EQ(cert.nonmanifold_edges, 1);
     EXPECT_TRUE(std::isnan(cert.edge_margin[edge_index(fin, 0, 1)]));
     EXPECT_FALSE(cert.self_delaunay);

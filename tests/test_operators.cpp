@@ -315,7 +315,7 @@ TEST_P(OperatorsWithPositions, Star0IsTheCertificatesDualArea) {
 
 TEST_P(OperatorsWithPositions, StarSignsFollowTheDelaunayCertificate) {
     const Fixture& m = fixture(GetParam());
-    const DelaunayCertificate cert = certify(m.mesh);
+    const DelaunayCertificate cert = certify(m.mesh, {.edge_margins = true});
     const Eigen::VectorXd s0 = star0(m.t), s1 = star1(m.t);
     // The sign of ⋆1 is the sign of the margin π - (α+β) (interior) or π/2 - α (boundary).
     for (int e = 0; e < m.t.num_edges(); ++e) {

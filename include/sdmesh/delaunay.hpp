@@ -39,17 +39,37 @@ enum class BoundaryPolicy {
 [[nodiscard]] bool is_locally_delaunay(double l, double a, double b, double c, double d,
                                        double tolerance = kDelaunayTolerance);
 
-/// is_locally_delaunay from the two opposite angles given as 4·area and cosine numerator of
-/// their triangles (4.0 * triangle_area(l, a, b) and cosine_numerator(l, a, b); likewise for
-/// (l, c, d)), with tan_tolerance = tan(tolerance): for loops that share these between edges.
+/// The margin π - (α + β) of a hinge as the angle of the point (x, y), from its two opposite
+/// angles given as 4·area and cosine numerator of their triangles (4.0 * triangle_area(l, a, b)
+/// and cosine_numerator(l, a, b); likewise for (l, c, d)): for loops that share these between
+/// edges. (x, y) is the product of (cos α, sin α) and (cos β, sin β), conjugated and negated,
+/// times the positive 4ab·cd.
+struct ScaledMargin {
+    double y, x;
+
+    /// The margin in [-π, π].
+    [[nodiscard]] double radians() const { return std::atan2(y, x); }
+
+    /// radians() >= -tolerance without the arctangent, given tan_tolerance = tan(tolerance).
+    [[nodiscard]] bool locally_delaunay(double tan_tolerance) const {
+        // The margin is in [0, π] for y >= 0, below -π/2 for y < 0 <= -x, and atan(y/x) for
+        // y < 0 < x, which is >= -tolerance iff y >= -tan(tolerance)·x. Bitwise, without
+        // branches: the verdicts of a mesh's edges come in no predictable order.
+        return (y >= 0) | ((x > 0) & (y >= -tan_tolerance * x));
+    }
+};
+
+[[nodiscard]] inline ScaledMargin scaled_margin(double area4_alpha, double cosine_alpha, double area4_beta,
+                                                double cosine_beta) {
+    return {.y = area4_alpha * cosine_beta + cosine_alpha * area4_beta,
+            .x = area4_alpha * area4_beta - cosine_alpha * cosine_beta};
+}
+
+/// is_locally_delaunay from the scaled opposite angles (see ScaledMargin), with
+/// tan_tolerance = tan(tolerance).
 [[nodiscard]] inline bool is_locally_delaunay_scaled(double area4_alpha, double cosine_alpha, double area4_beta,
                                                      double cosine_beta, double tan_tolerance) {
-    // The margin atan2(y, x) is in [0, π] for y >= 0, below -π/2 for y < 0 <= -x, and atan(y/x)
-    // for y < 0 < x, which is >= -tolerance iff y >= -tan(tolerance)·x.
-    const double y = area4_alpha * cosine_beta + cosine_alpha * area4_beta;
-    const double x = area4_alpha * area4_beta - cosine_alpha * cosine_beta;
-    if (y >= 0) return true;
-    return x > 0 && y >= -tan_tolerance * x;
+    return scaled_margin(area4_alpha, cosine_alpha, area4_beta, cosine_beta).locally_delaunay(tan_tolerance);
 }
 
 /// π/2 - α for a boundary edge of length l in the face (l, a, b).
@@ -69,11 +89,13 @@ enum class BoundaryPolicy {
 struct CertifyOptions {
     BoundaryPolicy boundary = BoundaryPolicy::strict;  ///< how boundary edges are judged
     double tolerance = kDelaunayTolerance;             ///< see the tolerance policy above, >= 0
+    bool edge_margins = false;                         ///< also fill DelaunayCertificate::edge_margin
 };
 
 /// The result of certify(). Per-element arrays follow the EdgeTable numbering of the mesh.
 struct DelaunayCertificate {
-    /// Per edge: π - (α+β) (interior), π/2 - α (boundary), NaN on non-manifold edges.
+    /// Per edge, when CertifyOptions::edge_margins (else empty): π - (α+β) (interior), π/2 - α
+    /// (boundary), NaN on non-manifold edges. The counts below need no arctangent, these do.
     Eigen::VectorXd edge_margin;
     /// Per vertex: signed circumcentric dual area Σ_j (l_ij²/8)(cot α_ij + cot β_ij)
     /// (ALGORITHMS.md §6); 0 for unreferenced vertices, non-finite next to a zero-area face.

@@ -13,22 +13,27 @@
 
 namespace sdmesh {
 
-/// |p - q|, summed in a fixed order ((x² + y²) + z²), so that every module computes the same bits
+/// |p - q|², summed in a fixed order ((x² + y²) + z²), so that every module computes the same bits
 /// for the same edge, whichever end it starts from.
-[[nodiscard]] inline double distance(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+[[nodiscard]] inline double squared_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
     const double dx = p.x() - q.x(), dy = p.y() - q.y(), dz = p.z() - q.z();
-    return std::sqrt((dx * dx + dy * dy) + dz * dz);
+    return (dx * dx + dy * dy) + dz * dz;
+}
+
+/// |p - q|, the square root of squared_distance(p, q).
+[[nodiscard]] inline double distance(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+    return std::sqrt(squared_distance(p, q));
 }
 
 /// Triangle area from its three side lengths by Kahan's formula (accurate also for needles).
 /// Lengths that violate the triangle inequality (by rounding or otherwise) give 0.
 [[nodiscard]] inline double triangle_area(double a, double b, double c) {
     // Kahan, "Miscalculating area and angles of a needle-like triangle": sort a >= b >= c and
-    // keep the parentheses exactly as written.
-    if (a < b) std::swap(a, b);
-    if (a < c) std::swap(a, c);
-    if (b < c) std::swap(b, c);
-    const double product = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+    // keep the parentheses exactly as written. The sort by min and max has no branch to mispredict.
+    const double hi = std::max(a, b), lo = std::min(a, b);
+    const double largest = std::max(hi, c), middle = std::max(lo, std::min(hi, c)), smallest = std::min(lo, c);
+    const double product = (largest + (middle + smallest)) * (smallest - (largest - middle)) *
+                           (smallest + (largest - middle)) * (largest + (middle - smallest));
     return product > 0 ? 0.25 * std::sqrt(product) : 0.0;
 }
 
