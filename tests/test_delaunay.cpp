@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include "meshes.hpp"
 #include "sdmesh/delaunay.hpp"
@@ -210,6 +211,30 @@ TEST(Certificate, GabrielTestMatchesCircumspheres) {
     EXPECT_GT(compared, 19000);
     EXPECT_GT(violations, 1000);
     EXPECT_LT(violations, compared - 1000);
+}
+
+// Blocks of edges go to threads; every count, the worst edge and every dual area bit must not
+// depend on how many.
+TEST(Certificate, SameResultForAnyNumberOfThreads) {
+    std::mt19937 rng(5);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    TriangleMesh bumpy = make_icosphere(5);
+    for (int v = 0; v < bumpy.num_vertices(); ++v) bumpy.V.row(v) *= 1.0 + noise(rng);
+    const int initial = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const DelaunayCertificate one = certify(bumpy);
+    ASSERT_GT(one.non_delaunay_edges, 0);
+    for (const int threads : {2, 3, 7}) {
+        omp_set_num_threads(threads);
+        const DelaunayCertificate many = certify(bumpy);
+        EXPECT_EQ(many.non_delaunay_edges, one.non_delaunay_edges) << threads;
+        EXPECT_EQ(many.gabriel_violations, one.gabriel_violations) << threads;
+        EXPECT_EQ(many.negative_dual_cells, one.negative_dual_cells) << threads;
+        EXPECT_EQ(many.worst_edge, one.worst_edge) << threads;
+        EXPECT_EQ(many.min_delaunay_margin, one.min_delaunay_margin) << threads;
+        EXPECT_EQ(many.dual_area, one.dual_area) << threads;
+    }
+    omp_set_num_threads(initial);
 }
 
 TEST(Certificate, NonManifoldPartsAreCountedNotJudged) {
