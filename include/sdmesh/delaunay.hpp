@@ -59,6 +59,7 @@ struct ScaledMargin {
     }
 };
 
+/// The ScaledMargin of the opposite angles α (4·area, cosine numerator) and β (likewise).
 [[nodiscard]] inline ScaledMargin scaled_margin(double area4_alpha, double cosine_alpha, double area4_beta,
                                                 double cosine_beta) {
     return {.y = area4_alpha * cosine_beta + cosine_alpha * area4_beta,
