@@ -47,24 +47,54 @@ std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const Edge
         const int base = h - h % 3;
         return corner_vertex[base] == v ? base : corner_vertex[base + 1] == v ? base + 1 : base + 2;
     };
+    // A walk waits on memory at every step (the faces around a vertex lie anywhere), so each
+    // thread runs kLanes walks side by side, a step of each in turn: their reads are independent
+    // and overlap.
+    struct Walk {
+        int v = -1, start = 0, side = 0, seen = 0;
+        bool backwards = false;  // second leg: from next(start) instead of prev(start)
+    };
+    constexpr int kLanes = 8, kChunk = 4096;
     std::vector<char> bad(static_cast<size_t>(num_vertices), 0);
-#pragma omp parallel for schedule(dynamic, 4096)
-    for (int v = 0; v < num_vertices; ++v) {
-        if (corners[v] == 0) continue;
-        const int start = first[v];
-        int seen = 1;
-        bool closed = false;
-        for (const int start_side : {prev(start), next(start)}) {
-            for (int side = start_side; !closed && seen <= corners[v];) {
-                const int across = twin[side];
-                if (across < 0) break;
-                const int c = corner_in_face(across, v);
-                if (c == start) closed = true;
-                else ++seen, side = prev(c) == across ? next(c) : prev(c);
+    const int num_chunks = (num_vertices + kChunk - 1) / kChunk;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int chunk = 0; chunk < num_chunks; ++chunk) {
+        int pending = chunk * kChunk;
+        const int end = std::min(pending + kChunk, num_vertices);
+        const auto begin_walk = [&](Walk& w) {
+            while (pending < end && corners[pending] == 0) ++pending;
+            w.v = pending < end ? pending++ : -1;
+            if (w.v < 0) return;
+            w.start = first[w.v], w.side = prev(w.start), w.seen = 1, w.backwards = false;
+        };
+        const auto finish = [&](Walk& w) {
+            bad[w.v] = w.seen != corners[w.v];
+            begin_walk(w);
+        };
+        const auto end_leg = [&](Walk& w) {
+            if (w.backwards) return finish(w);
+            w.backwards = true, w.side = next(w.start);
+        };
+        Walk lanes[kLanes];
+        for (Walk& w : lanes) begin_walk(w);
+        for (bool walking = true; walking;) {
+            walking = false;
+            for (Walk& w : lanes) {
+                if (w.v < 0) continue;
+                walking = true;
+                const int across = twin[w.side];
+                if (w.seen > corners[w.v] || across < 0) {
+                    end_leg(w);
+                    continue;
+                }
+                const int c = corner_in_face(across, w.v);
+                if (c == w.start) {  // back at the start: a closed fan
+                    finish(w);
+                    continue;
+                }
+                ++w.seen, w.side = prev(c) == across ? next(c) : prev(c);
             }
-            if (closed) break;
         }
-        bad[v] = seen != corners[v];
     }
     std::vector<int> result;
     for (int v = 0; v < num_vertices; ++v)
