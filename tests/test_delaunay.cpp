@@ -159,14 +159,19 @@ TEST(Certificate, SkewedGridIsNotDelaunay) {
     EXPECT_GE(skewed.non_delaunay_edges, 16);
 }
 
+// An icosphere with every vertex moved radially by 5 % (normal, seeded): many non-Delaunay edges.
+TriangleMesh bumpy_icosphere(int subdivisions, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    TriangleMesh bumpy = make_icosphere(subdivisions);
+    for (int v = 0; v < bumpy.num_vertices(); ++v) bumpy.V.row(v) *= 1.0 + noise(rng);
+    return bumpy;
+}
+
 // The counts and the least margin come without arctangents; they must agree with the margins.
 TEST(Certificate, CountsAgreeWithTheEdgeMargins) {
-    std::mt19937 rng(7);
-    std::normal_distribution<double> noise(0.0, 0.05);
-    TriangleMesh bumpy = make_icosphere(3);
-    for (int v = 0; v < bumpy.num_vertices(); ++v) bumpy.V.row(v) *= 1.0 + noise(rng);
     for (const TriangleMesh& mesh :
-         {bumpy, make_grid(6, 5, 1.0, 1.0, 1.5), test::make_negative_dual_fan(), make_icosphere(2)}) {
+         {bumpy_icosphere(3, 7), make_grid(6, 5, 1.0, 1.0, 1.5), test::make_negative_dual_fan(), make_icosphere(2)}) {
         const DelaunayCertificate lean = certify(mesh);
         EXPECT_EQ(lean.edge_margin.size(), 0);
         const DelaunayCertificate cert = certify(mesh, {.edge_margins = true});
@@ -216,10 +221,7 @@ TEST(Certificate, GabrielTestMatchesCircumspheres) {
 // Blocks of edges go to threads; every count, the worst edge and every dual area bit must not
 // depend on how many.
 TEST(Certificate, SameResultForAnyNumberOfThreads) {
-    std::mt19937 rng(5);
-    std::normal_distribution<double> noise(0.0, 0.05);
-    TriangleMesh bumpy = make_icosphere(5);
-    for (int v = 0; v < bumpy.num_vertices(); ++v) bumpy.V.row(v) *= 1.0 + noise(rng);
+    const TriangleMesh bumpy = bumpy_icosphere(5, 5);
     const int initial = omp_get_max_threads();
     omp_set_num_threads(1);
     const DelaunayCertificate one = certify(bumpy);
