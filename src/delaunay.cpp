@@ -1,10 +1,9 @@
 #include "sdmesh/delaunay.hpp"
 
 #include <algorithm>
-#include <bit>
-#include <cstdint>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <omp.h>
