@@ -86,6 +86,10 @@ struct StarTriangle {
     double xa, xb, area4, cosine_x, cosine_a, cosine_b;
 };
 
+// The weight of a collapse's removed positions against its quadric (see collapse_cost), as of
+// one face plane's: 1 and 10 left boot's Hausdorff at 20 % 1.20x and 1.11x the reference's, 3 1.07x.
+constexpr double kRemovalWeight = 3;
+
 // A boundary edge's plane weighs as much as this many face planes, so that the outline holds
 // (with 1, mushroom's Hausdorff at 20 % was 1.56x the reference, with 4 0.85x).
 constexpr double kBoundaryPlaneWeight = 4;
@@ -189,8 +193,9 @@ public:
                 refuse(top.u, top.w);
                 continue;
             }
-            // The queue key was a lower bound; let a cheaper collapse go first.
-            if (!checked && !queue_.empty() && cost > queue_.top().key) {
+            // The queue key was a lower bound (or the cost of a placement checked before the
+            // neighbourhood changed); let a cheaper collapse go first.
+            if (!unchanged && !queue_.empty() && cost > queue_.top().key) {
                 queue_.push({cost, top.u, top.w, top.version_u, top.version_w, store_checked({x, collapses_})});
                 continue;
             }
@@ -481,6 +486,23 @@ private:
             if (near_edge(extra[i]) && std::find(out.begin(), out.end(), extra[i]) == out.end()) out.push_back(extra[i]);
     }
 
+    // What a collapse of q into p at x costs: the quadric, plus kRemovalWeight times the squared
+    // distance of the farther of the two old positions from the new star. The quadric alone
+    // misses what the collapse of a thin fold's tip cuts away (the fold's planes nearly contain
+    // the tip's path): on boot, one such tip was the whole Hausdorff distance at 20 %, 1.93x the
+    // reference's; with the term it is 1.07x, and no corpus mesh got worse.
+    double collapse_cost(const Quadric& quadric, int p, int q, const Vec3& x) const {
+        double removed2 = 0;
+        for (int v : {p, q}) {
+            if (P_[v] == x) continue;
+            double nearest2 = std::numeric_limits<double>::infinity();
+            for (const StarFace& s : star_)
+                nearest2 = std::min(nearest2, (closest_point_on_triangle(P_[v], x, P_[s.a], P_[s.b]) - P_[v]).squaredNorm());
+            removed2 = std::max(removed2, nearest2);
+        }
+        return quadric(x) + kRemovalWeight * removed2;
+    }
+
     // The lower bound the queue is keyed on: the quadric at the unconstrained placement.
     double lower_bound(int p, int q) const {
         const Quadric quadric = quadric_[p] + quadric_[q];
@@ -557,7 +579,7 @@ private:
             const Verdict v = check(p, q, candidate);
             if (v == Verdict::accepted) {
                 x = candidate;
-                cost = quadric(candidate);
+                cost = collapse_cost(quadric, p, q, candidate);
                 return v;
             }
             if (!reason || v == Verdict::max_error) reason = v;
