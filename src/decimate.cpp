@@ -833,6 +833,7 @@ struct SpatialOrder {
 
 SpatialOrder spatial_order(const TriangleMesh& mesh) {
     const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+    if (nv == 0) return {mesh, {}};  // no bounding box
     const Eigen::RowVector3d low = mesh.V.colwise().minCoeff();
     const double extent = std::max((mesh.V.colwise().maxCoeff() - low).maxCoeff(), std::numeric_limits<double>::min());
     std::vector<std::pair<unsigned long long, int>> code(static_cast<size_t>(nv));

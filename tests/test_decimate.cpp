@@ -183,6 +183,15 @@ TEST(DecimateInput, TinyClosedMeshStallsInsteadOfBreaking) {
     expect_same_topology_and_self_delaunay(ico, result.mesh, BoundaryPolicy::strict, "icosahedron");
 }
 
+// Found by fuzz_pipeline: an empty mesh had no bounding box to order its vertices by.
+TEST(DecimateInput, EmptyMeshIsAlreadyAtItsTarget) {
+    const DecimateResult result = decimate(TriangleMesh{}, {.target_ratio = 0.5});
+    EXPECT_EQ(result.report.status, DecimateStatus::reached_target);
+    EXPECT_EQ(result.mesh.num_vertices(), 0);
+    EXPECT_EQ(result.mesh.num_faces(), 0);
+    EXPECT_EQ(result.report.collapses, 0);
+}
+
 class DecimateCorpus : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(DecimateCorpus, ConvertedMeshDecimatesToOneFifth) {

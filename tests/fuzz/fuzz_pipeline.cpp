@@ -1,4 +1,5 @@
-// libFuzzer target: what `sdmesh check`, `convert` and `operators` do, on small decoded meshes.
+// libFuzzer target: what `sdmesh check`, `convert`, `operators` and `decimate` do, on small
+// decoded meshes.
 // The selector byte of fuzz_input.hpp also chooses the conversion method (bits 3-4) and the
 // boundary policy (bit 5). Meshes are capped and convert gets a vertex budget, so that no single
 // input runs long. Bad meshes may only be refused with InvalidMeshError; results must satisfy
@@ -8,6 +9,7 @@
 
 #include "fuzz_input.hpp"
 #include "sdmesh/convert.hpp"
+#include "sdmesh/decimate.hpp"
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/operators.hpp"
@@ -41,6 +43,18 @@ void check_operators(const sdmesh::TriangleMesh& mesh) {
     require(sdmesh::star2(t).size() == t.num_faces());
 }
 
+// sdmesh decimate on a certified conversion: every output stays self-Delaunay and keeps the
+// topology (it may stall, never break).
+void check_decimation(const sdmesh::TriangleMesh& mesh, sdmesh::BoundaryPolicy boundary) {
+    const sdmesh::MeshInfo before = sdmesh::validate(mesh);
+    const sdmesh::DecimateResult result = sdmesh::decimate(mesh, {.target_ratio = 0.3, .boundary = boundary});
+    require(result.report.certificate.self_delaunay);
+    require(result.report.output_vertices >= result.report.target_vertices);
+    const sdmesh::MeshInfo after = sdmesh::validate(result.mesh);
+    require(after.manifold() && after.genus == before.genus && after.components == before.components &&
+            after.boundary_loops == before.boundary_loops);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -72,6 +86,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         require(result.mesh.num_vertices() <= kVertexBudget + kMaxVertices);
         require((result.mesh.V.topRows(mesh.num_vertices()).array() == mesh.V.array()).all());
         check_operators(result.mesh);
+        if (result.report.status == sdmesh::ConvertStatus::certified) check_decimation(result.mesh, options.boundary);
     } catch (const sdmesh::InvalidMeshError&) {
     }
     return 0;
