@@ -1,7 +1,9 @@
 #pragma once
 // Delaunay-preserving decimation (ALGORITHMS.md §4, after Dyer et al. 2007): edge collapses of a
-// self-Delaunay mesh, ordered by quadric error (Garland–Heckbert), each keeping the mesh
-// self-Delaunay, so that every intermediate mesh — and every level of a hierarchy — is one.
+// self-Delaunay mesh, cheapest first, each keeping the mesh self-Delaunay, so that every
+// intermediate mesh — and every level of a hierarchy — is one. A collapse costs its quadric
+// error (Garland–Heckbert) plus 3x the squared distance of the farther of its two old positions
+// from the new faces, which sees what the quadric misses at the tip of a thin fold.
 //
 // A collapse of edge [p, q] into a vertex v is accepted only if
 //  - the link condition holds (genus and boundary loops are kept) and no link vertex drops
