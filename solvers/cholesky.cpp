@@ -1,7 +1,6 @@
 #include "sdmesh/cholesky.hpp"
 
 #include <cholmod.h>
-#include <omp.h>
 
 #include <cstdlib>
 #include <mutex>
@@ -11,6 +10,7 @@
 #include "sdmesh/error.hpp"
 
 #include "prefault.hpp"
+#include "serial_blas.hpp"
 
 namespace sdmesh {
 namespace {
@@ -30,22 +30,6 @@ void use_prefaulted_malloc() {
         if (SuiteSparse_config.malloc_func == &std::malloc) SuiteSparse_config.malloc_func = &prefaulted_malloc;
     });
 }
-
-// CHOLMOD's supernodal kernels call BLAS, which (OpenBLAS's OpenMP build, what setup installs)
-// runs each call on all OpenMP threads. On the 2-core VMs measured that never made a
-// factorization or solve faster, and with libgomp's default spinning it made the igea geodesic
-// precomputation 2.5× slower (21.8 s against 8.5 s). One thread also makes the factors
-// independent of the thread count. Scoped: the caller's thread count is restored.
-class SerialBlas {
-public:
-    SerialBlas() : saved_(omp_get_max_threads()) { omp_set_num_threads(1); }
-    ~SerialBlas() { omp_set_num_threads(saved_); }
-    SerialBlas(const SerialBlas&) = delete;
-    SerialBlas& operator=(const SerialBlas&) = delete;
-
-private:
-    int saved_;
-};
 
 }  // namespace
 
@@ -156,7 +140,7 @@ void CholeskySolver::factorize(const Eigen::SparseMatrix<double>& A) {
     cholmod_sparse a = Impl::view(A);
     m.factorized = false;
     {
-        const SerialBlas serial;
+        const detail::SerialBlas serial;
         cholmod_factorize(&a, m.factor, &m.common);
     }
     if (m.common.status == CHOLMOD_NOT_POSDEF)
@@ -183,7 +167,7 @@ Eigen::MatrixXd CholeskySolver::solve_columns(const Eigen::MatrixXd& b) const {
     rhs.dtype = CHOLMOD_DOUBLE;
     cholmod_dense* x = nullptr;
     {
-        const SerialBlas serial;
+        const detail::SerialBlas serial;
         x = cholmod_solve(CHOLMOD_A, m.factor, &rhs, &m.common);
     }
     if (!x) throw NumericalError("Cholesky: solve failed (CHOLMOD status " + std::to_string(m.common.status) + ")");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <Spectra/MatOp/SparseSymMatProd.h>
@@ -13,6 +14,7 @@
 #include "sdmesh/cholesky.hpp"
 #include "sdmesh/error.hpp"
 
+#include "block_lanczos.hpp"
 #include "free_vertices.hpp"
 
 namespace sdmesh {
@@ -85,10 +87,48 @@ void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& optio
                                  "circumcentric dual cell, which conversion to self-Delaunay removes)");
 }
 
+// The shift-invert Ritz vectors of the `nev` smallest eigenvalues by Spectra's Lanczos.
+Eigen::MatrixXd spectra_ritz_vectors(const Sparse& L, const Sparse& M, int nev, int basis, const EigenOptions& options,
+                                     EigenReport& report) {
+    ShiftInvertOp op(L, M, report.solves);
+    Spectra::SparseSymMatProd<double> mass_op(M);
+    Spectra::SymGEigsShiftSolver<ShiftInvertOp, Spectra::SparseSymMatProd<double>, Spectra::GEigsMode::ShiftInvert>
+        lanczos(op, mass_op, nev, basis, report.sigma);
+    try {
+        lanczos.init();
+        lanczos.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance,
+                        Spectra::SortRule::SmallestAlge);
+    } catch (const Error&) {
+        throw;
+    } catch (const std::runtime_error& e) {  // Spectra's breakdowns, with its own words
+        throw NumericalError(std::string("eigenpairs: Lanczos failed: ") + e.what());
+    }
+    report.iterations = static_cast<int>(lanczos.num_iterations());
+    report.status =
+        lanczos.info() == Spectra::CompInfo::Successful ? EigenStatus::converged : EigenStatus::not_converged;
+    return lanczos.eigenvectors();
+}
+
+// The same by block Lanczos (block_lanczos.hpp).
+Eigen::MatrixXd block_ritz_vectors(const Sparse& L, const Sparse& M, int nev, int basis, double tolerance,
+                                   EigenReport& report) {
+    const CholeskySolver factor(Sparse(L - report.sigma * M));
+    detail::BlockLanczosResult lanczos =
+        detail::block_lanczos(factor, M, {.wanted = nev, .max_columns = basis, .tolerance = tolerance});
+    report.iterations = lanczos.steps;
+    report.solves = lanczos.solves;
+    report.status = lanczos.converged ? EigenStatus::converged : EigenStatus::not_converged;
+    return std::move(lanczos.ritz_vectors);
+}
+
 }  // namespace
 
 std::string_view to_string(EigenStatus status) {
     return status == EigenStatus::converged ? "converged" : "not_converged";
+}
+
+std::string_view to_string(EigenSolver solver) {
+    return solver == EigenSolver::block_lanczos ? "block_lanczos" : "spectra_lanczos";
 }
 
 EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, const EigenOptions& options) {
@@ -108,43 +148,32 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
                                    std::to_string(k));
     // Lanczos from one start vector can miss members of a cluster of (nearly) equal eigenvalues
     // when only the wanted pairs are tested for convergence; on icospheres it did. So it is asked
-    // for a margin of extra pairs, which must converge too, and the k smallest are kept.
-    const int with_margin = std::min(n - 1, k + std::max(kMinEigenMargin, k / 2));
-    const int basis = options.basis_size == 0 ? std::min(n, std::max(2 * with_margin + 1, 20)) : options.basis_size;
+    // for a margin of extra pairs, which must converge too, and the k smallest are kept. Blocks
+    // find up to block-size equal eigenvalues at once and need a smaller margin.
+    const bool block = options.solver == EigenSolver::block_lanczos;
+    const int with_margin = std::min(n - 1, k + std::max(kMinEigenMargin, block ? k / 5 : k / 2));
+    const int default_basis = block ? std::max(6 * with_margin, 160) : std::max(2 * with_margin + 1, 20);
+    const int basis = options.basis_size == 0 ? std::min(n, default_basis) : options.basis_size;
     if (basis <= k || basis > n)
         throw InvalidArgumentError("eigenpairs: basis_size must be in (k, n] = (" + std::to_string(k) + ", " +
                                    std::to_string(n) + "], got " + std::to_string(basis));
     const int nev = std::min(with_margin, basis - 1);
 
     EigenReport report;
+    report.solver = options.solver;
     report.sigma = std::isnan(options.sigma) ? -L.diagonal().sum() / (n * M.diagonal().sum()) : options.sigma;
     if (!(report.sigma < 0))
         throw InvalidArgumentError("eigenpairs: the automatic shift is not negative (trace(L) = " +
                                    std::to_string(L.diagonal().sum()) + ", trace(M) = " +
                                    std::to_string(M.diagonal().sum()) + "); pass sigma");
 
-    ShiftInvertOp op(L, M, report.solves);
-    Spectra::SparseSymMatProd<double> mass_op(M);
-    Spectra::SymGEigsShiftSolver<ShiftInvertOp, Spectra::SparseSymMatProd<double>, Spectra::GEigsMode::ShiftInvert>
-        lanczos(op, mass_op, nev, basis, report.sigma);
-    try {
-        lanczos.init();
-        lanczos.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance,
-                        Spectra::SortRule::SmallestAlge);
-    } catch (const Error&) {
-        throw;
-    } catch (const std::runtime_error& e) {  // Spectra's breakdowns, with its own words
-        throw NumericalError(std::string("eigenpairs: Lanczos failed: ") + e.what());
-    }
-    report.iterations = static_cast<int>(lanczos.num_iterations());
-    report.status =
-        lanczos.info() == Spectra::CompInfo::Successful ? EigenStatus::converged : EigenStatus::not_converged;
+    const Eigen::MatrixXd Y = block ? block_ritz_vectors(L, M, nev, basis, options.tolerance, report)
+                                    : spectra_ritz_vectors(L, M, nev, basis, options, report);
 
     // Rayleigh–Ritz on the span of the Ritz vectors (a k x k dense generalized problem): Lanczos
     // vectors drift from M-orthogonality within clusters of equal eigenvalues, this restores it
     // to rounding and gives each pair its Rayleigh quotient. Products with L and M run over a few
     // columns at a time, so no further n x k matrix is made (their first touch is slow).
-    const Eigen::MatrixXd Y = lanczos.eigenvectors();
     const Eigen::MatrixXd A = projected(Y, L, Y), B = projected(Y, M, Y);
     const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> small(A, B);
     if (small.info() != Eigen::Success)

@@ -81,18 +81,66 @@ TEST(SphereSpectrum, EigenvaluesAreLTimesLPlusOneAndConvergeUnderRefinement) {
     }
 }
 
+constexpr EigenSolver kBothSolvers[] = {EigenSolver::block_lanczos, EigenSolver::spectra_lanczos};
+
 TEST(SphereSpectrum, AgreesWithADenseSolve) {
-    for (MassType mass : {MassType::barycentric, MassType::galerkin}) {
-        const Triangulation t = Triangulation::from_mesh(make_icosphere(2));
-        const Sparse L = cotan_laplacian(t), M = mass_matrix(t, mass);
-        const EigenResult r = smallest_eigenpairs(L, M, {.k = 16});
-        expect_accurate(r, "icosphere 2");
-        const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(
-            Eigen::MatrixXd(L), Eigen::MatrixXd(M), Eigen::EigenvaluesOnly);
-        // Both are accurate to rounding on the scale of the largest eigenvalue asked for.
-        const double tolerance = 1e-9 * dense.eigenvalues()[15];
-        for (int i = 0; i < 16; ++i) EXPECT_NEAR(r.values[i], dense.eigenvalues()[i], tolerance) << "index " << i;
+    for (EigenSolver solver : kBothSolvers)
+        for (MassType mass : {MassType::barycentric, MassType::galerkin}) {
+            const Triangulation t = Triangulation::from_mesh(make_icosphere(2));
+            const Sparse L = cotan_laplacian(t), M = mass_matrix(t, mass);
+            const EigenResult r = smallest_eigenpairs(L, M, {.k = 16, .solver = solver});
+            const std::string what = std::string(to_string(solver)) + ", icosphere 2";
+            expect_accurate(r, what);
+            EXPECT_EQ(r.report.solver, solver);
+            const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(
+                Eigen::MatrixXd(L), Eigen::MatrixXd(M), Eigen::EigenvaluesOnly);
+            // Both are accurate to rounding on the scale of the largest eigenvalue asked for.
+            const double tolerance = 1e-9 * dense.eigenvalues()[15];
+            for (int i = 0; i < 16; ++i)
+                EXPECT_NEAR(r.values[i], dense.eigenvalues()[i], tolerance) << what << ", index " << i;
+        }
+}
+
+// The two Lanczos variants on a corpus-sized problem (bunny, 2.5k vertices), k = 60: the same
+// eigenvalues to 1e-9 relative.
+TEST(SphereSpectrum, BlockAndSpectraLanczosAgree) {
+    const Triangulation t = Triangulation::from_mesh(read_mesh(std::string(SDMESH_TEST_DATA_DIR) + "/bunny.obj"));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    const EigenResult block = smallest_eigenpairs(L, M, {.k = 60, .solver = EigenSolver::block_lanczos});
+    const EigenResult spectra = smallest_eigenpairs(L, M, {.k = 60, .solver = EigenSolver::spectra_lanczos});
+    expect_accurate(block, "block");
+    expect_accurate(spectra, "spectra");
+    ASSERT_EQ(block.values.size(), 60);
+    ASSERT_EQ(spectra.values.size(), 60);
+    for (int i = 0; i < 60; ++i)
+        EXPECT_NEAR(block.values[i], spectra.values[i], 1e-9 * std::max(spectra.values[i], 1.0)) << "index " << i;
+}
+
+// λ = 0, 1, 2, each ten times (L diagonal, M = I): more equal eigenvalues than a block has
+// columns. The Krylov space becomes invariant after three blocks; the lost directions are
+// replaced by random ones, and the 20 smallest come out whole.
+TEST(BlockLanczos, FindsEqualEigenvaluesBeyondTheBlockSize) {
+    const int n = 30;
+    Sparse L(n, n), M(n, n);
+    for (int i = 0; i < n; ++i) {
+        L.insert(i, i) = i / 10;
+        M.insert(i, i) = 1.0;
     }
+    const EigenResult r = smallest_eigenpairs(L, M, {.k = 20});
+    expect_accurate(r, "diagonal");
+    ASSERT_EQ(r.values.size(), 20);
+    for (int i = 0; i < 20; ++i) EXPECT_NEAR(r.values[i], i / 10, 1e-10) << "index " << i;
+    expect_report_is_honest(r, L, M, "diagonal");
+}
+
+// A basis too small to converge is a status with the best approximations, not an exception.
+TEST(BlockLanczos, ABasisTooSmallIsReportedAsNotConverged) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(4));
+    const EigenResult r = smallest_eigenpairs(cotan_laplacian(t), mass_matrix(t), {.k = 20, .basis_size = 24});
+    EXPECT_EQ(r.report.status, EigenStatus::not_converged);
+    EXPECT_EQ(r.values.size(), 20);
+    EXPECT_GT(r.report.max_residual, 1e-8);
+    EXPECT_LE(r.report.max_orthogonality_error, 1e-10);
 }
 
 // Two icospheres side by side in one matrix pair (block diagonal): two zero eigenvalues, each
@@ -101,14 +149,17 @@ TEST(SphereSpectrum, AgreesWithADenseSolve) {
 // instead) before it was asked for a margin of extra pairs.
 TEST(SphereSpectrum, ClustersOfEqualEigenvaluesAreFoundWhole) {
     const Triangulation t = Triangulation::from_mesh(make_icosphere(5));
-    const EigenResult r = smallest_eigenpairs(cotan_laplacian(t), mass_matrix(t, MassType::galerkin), {.k = 25});
-    std::vector<int> group_size(5, 0);
-    for (int i = 0; i < 25; ++i) {
-        const long l = std::lround((std::sqrt(1 + 4 * r.values[i]) - 1) / 2);  // λ ≈ l(l + 1)
-        ASSERT_LE(l, 4) << "index " << i << ": " << r.values[i];
-        ++group_size[static_cast<size_t>(l)];
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::galerkin);
+    for (EigenSolver solver : kBothSolvers) {
+        const EigenResult r = smallest_eigenpairs(L, M, {.k = 25, .solver = solver});
+        std::vector<int> group_size(5, 0);
+        for (int i = 0; i < 25; ++i) {
+            const long l = std::lround((std::sqrt(1 + 4 * r.values[i]) - 1) / 2);  // λ ≈ l(l + 1)
+            ASSERT_LE(l, 4) << to_string(solver) << ", index " << i << ": " << r.values[i];
+            ++group_size[static_cast<size_t>(l)];
+        }
+        EXPECT_EQ(group_size, (std::vector<int>{1, 3, 5, 7, 9})) << to_string(solver);
     }
-    EXPECT_EQ(group_size, (std::vector<int>{1, 3, 5, 7, 9}));
 }
 
 TEST(Components, OneZeroEigenvaluePerComponent) {

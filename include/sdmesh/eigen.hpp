@@ -2,7 +2,8 @@
 // The k smallest eigenpairs of the generalized problem L φ = λ M φ (L symmetric positive
 // semidefinite, M symmetric positive definite, both n x n): shift-invert Lanczos on a sparse
 // Cholesky factor of L − σM with a negative shift σ, so L − σM is positive definite even though
-// L is singular. The constant functions are not removed: a mesh gets one zero eigenvalue per
+// L is singular. Two Lanczos variants: block Lanczos (default: blocks of 4 solves, BLAS-3
+// orthogonalization) and Spectra's restarted single-vector Lanczos. The constant functions are not removed: a mesh gets one zero eigenvalue per
 // connected component, and they come out like any other eigenvalue. Spectra and CHOLMOD stay
 // behind this header (target sdmesh::solvers).
 //
@@ -20,6 +21,15 @@
 
 namespace sdmesh {
 
+enum class EigenSolver {
+    /// Block Lanczos in the M inner product, blocks of 4 columns, basis not restarted (its size
+    /// is basis_size) and a margin of max(10, k/5) extra pairs. 2–3× faster than Spectra's on
+    /// meshes of 50k–537k vertices (k = 50, 100).
+    block_lanczos,
+    /// Spectra's implicitly restarted single-vector Lanczos (SymGEigsShiftSolver).
+    spectra_lanczos,
+};
+
 struct EigenOptions {
     /// Number of eigenpairs wanted, 1 <= k < n (n: the free vertices, see dirichlet_vertices).
     int k = 10;
@@ -28,11 +38,16 @@ struct EigenOptions {
     /// area. It is invariant under refinement and scales like 1/area, as the low eigenvalues do,
     /// and sits an order of magnitude below the first non-zero one on compact surfaces.
     double sigma = std::numeric_limits<double>::quiet_NaN();
-    /// Relative tolerance of the Lanczos Ritz values (Spectra's tol).
+    EigenSolver solver = EigenSolver::block_lanczos;
+    /// Relative tolerance of the Lanczos Ritz values: residual ≤ tolerance · |θ| with
+    /// θ = 1 / (λ − σ) (Spectra's tol).
     double tolerance = 1e-10;
-    /// Maximum number of Lanczos restarts.
+    /// Maximum number of Lanczos restarts (spectra_lanczos only).
     int max_iterations = 1000;
-    /// Lanczos basis size; 0 (default) picks max(2k + 1, 20), capped at n.
+    /// Lanczos basis size; 0 (default) picks, with p = k plus the margin of extra pairs
+    /// (max(10, k/2) for spectra_lanczos, max(10, k/5) for block_lanczos), max(2p + 1, 20) for
+    /// spectra_lanczos and max(6p, 160) for block_lanczos, capped at n. Block Lanczos stores
+    /// its basis (n x basis_size doubles at most) and reports not_converged when it is full.
     int basis_size = 0;
     /// Vertices where φ = 0 (homogeneous Dirichlet condition): the problem is solved on the rows
     /// and columns of the other vertices and the eigenvectors are 0 here. Empty: natural
@@ -42,15 +57,20 @@ struct EigenOptions {
 
 enum class EigenStatus {
     converged,      ///< all k pairs met the tolerance
-    not_converged,  ///< max_iterations reached first; the result holds the pairs that converged
+    /// max_iterations (spectra_lanczos) or the basis size (block_lanczos) reached first; the
+    /// result holds the pairs that converged (spectra_lanczos) or the best approximations.
+    not_converged,
 };
 
 /// "converged" / "not_converged", as in report.json.
 std::string_view to_string(EigenStatus status);
+/// "block_lanczos" / "spectra_lanczos", as in report.json.
+std::string_view to_string(EigenSolver solver);
 
 struct EigenReport {
     EigenStatus status = EigenStatus::converged;
-    int iterations = 0;        ///< Lanczos restarts
+    EigenSolver solver = EigenSolver::block_lanczos;  ///< the Lanczos variant that ran
+    int iterations = 0;        ///< Lanczos restarts (spectra_lanczos) or block steps (block_lanczos)
     int solves = 0;            ///< applications of (L − σM)⁻¹, the dominant cost
     double sigma = 0;          ///< the shift used
     double max_residual = 0;   ///< max over pairs of ‖Lφ − λMφ‖ / (max(|λ|, |σ|) · ‖Mφ‖)

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace sdmesh::cli {
@@ -49,6 +50,20 @@ public:
         } catch (const std::exception&) {
         }
         throw UsageError(command_ + ": " + std::string(name) + " expects a number, got '" + *text + "'");
+    }
+
+    /// The value of `--name` as one of named choices, `fallback` when absent, e.g.
+    /// choice("--boundary", {std::pair{"strict", X::strict}, std::pair{"free", X::free}}, X::strict).
+    template <class Enum, size_t N>
+    Enum choice(std::string_view name, const std::pair<const char*, Enum> (&choices)[N], Enum fallback) {
+        const auto value = option(name);
+        if (!value) return fallback;
+        std::string names;
+        for (const auto& [text, result] : choices) {
+            if (*value == text) return result;
+            names += names.empty() ? text : std::string("|") + text;
+        }
+        throw UsageError(command_ + ": " + std::string(name) + " must be " + names + ", got '" + *value + "'");
     }
 
     /// Throws the one-line usage error for required options that are missing, e.g.

@@ -18,31 +18,19 @@ constexpr const char* kConvertUsage =
     "sdmesh convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell] [--max-dihedral DEG] "
     "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--repair] [--report FILE.json] [--progress]";
 
-template <class Enum, size_t N>
-Enum parse_choice(Args& args, const char* option, const std::pair<const char*, Enum> (&choices)[N], Enum fallback) {
-    const auto value = args.option(option);
-    if (!value) return fallback;
-    std::string names;
-    for (const auto& [name, choice] : choices) {
-        if (*value == name) return choice;
-        names += names.empty() ? name : std::string("|") + name;
-    }
-    throw UsageError(std::string(option) + " must be " + names + ", got '" + *value + "'");
-}
-
 }  // namespace
 
 int run_convert(Args& args) {
     ConvertOptions options;
-    options.method = parse_choice(args, "--method",
+    options.method = args.choice("--method",
                                   {std::pair{"split", ConvertMethod::split}, std::pair{"hybrid", ConvertMethod::hybrid},
                                    std::pair{"flip", ConvertMethod::flip}},
                                   options.method);
-    options.split_rule = parse_choice(
-        args, "--split-rule", {std::pair{"interval", SplitRule::interval}, std::pair{"shell", SplitRule::shell}},
+    options.split_rule = args.choice(
+        "--split-rule", {std::pair{"interval", SplitRule::interval}, std::pair{"shell", SplitRule::shell}},
         options.split_rule);
-    options.boundary = parse_choice(
-        args, "--boundary", {std::pair{"strict", BoundaryPolicy::strict}, std::pair{"free", BoundaryPolicy::free}},
+    options.boundary = args.choice(
+        "--boundary", {std::pair{"strict", BoundaryPolicy::strict}, std::pair{"free", BoundaryPolicy::free}},
         options.boundary);
     options.max_dihedral_deg = args.number("--max-dihedral").value_or(options.max_dihedral_deg);
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);

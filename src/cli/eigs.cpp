@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <string>
 #include <system_error>
+#include <utility>
 
 #include "cli/commands.hpp"
 #include "cli/solver_input.hpp"
@@ -47,12 +48,16 @@ std::string eigenvectors_bin(const Eigen::MatrixXd& vectors) {
 int run_eigs(Args& args) {
     const auto usage =
         "sdmesh eigs MESH -k K --out DIR [--mass barycentric|circumcentric|mixed|galerkin] "
-        "[--convert split|hybrid|flip | --intrinsic] [--sigma S] [--tolerance T]";
+        "[--convert split|hybrid|flip | --intrinsic] [--sigma S] [--tolerance T] [--solver block|spectra]";
     const SolverChoices choices = parse_solver_choices(args);
     const auto k = args.number("-k");
     EigenOptions options;
     options.sigma = args.number("--sigma").value_or(options.sigma);
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);
+    options.solver = args.choice("--solver",
+                                 {std::pair{"block", EigenSolver::block_lanczos},
+                                  std::pair{"spectra", EigenSolver::spectra_lanczos}},
+                                 options.solver);
     const auto out = args.option("--out");
     const auto path = args.positionals(1, usage)[0];
     if (!out) args.missing("--out DIR is", usage);

@@ -177,6 +177,7 @@ JsonObject eigen_json(int k, const EigenResult& result) {
     json.add("k", k)
         .add("converged_pairs", static_cast<long long>(result.values.size()))
         .add("status", to_string(r.status))
+        .add("solver", to_string(r.solver))
         .add("iterations", r.iterations)
         .add("solves", r.solves)
         .add("sigma", r.sigma)

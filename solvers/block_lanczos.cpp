@@ -1,0 +1,188 @@
+#include "block_lanczos.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Eigenvalues>
+#include <cblas.h>
+
+#include "sdmesh/cholesky.hpp"
+#include "sdmesh/error.hpp"
+
+#include "serial_blas.hpp"
+
+namespace sdmesh::detail {
+namespace {
+
+using Sparse = Eigen::SparseMatrix<double>;
+using Matrix = Eigen::MatrixXd;
+using Index = Eigen::Index;
+
+// A direction of a new block whose M-norm fell below this fraction of the block's norm before
+// orthogonalization is numerically inside the basis already (an invariant subspace was found);
+// it is replaced by a fresh random direction.
+constexpr double kLostDirection = 1e-10;
+
+// Deterministic pseudo-random columns in [-1, 1) (splitmix64), the same on every platform.
+Matrix random_columns(Index n, Index b, std::uint64_t seed) {
+    Matrix X(n, b);
+    std::uint64_t state = seed;
+    for (Index j = 0; j < b; ++j)
+        for (Index i = 0; i < n; ++i) {
+            std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+            z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+            z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+            z ^= z >> 31;
+            X(i, j) = static_cast<double>(z >> 11) * 0x1.0p-52 - 1.0;
+        }
+    return X;
+}
+
+// C ← alpha · op(A) · B + beta · C with op(A) = Aᵀ or A, by the system BLAS: OpenBLAS (what
+// setup installs) picks AVX-512 kernels at run time, which Eigen, compiled for baseline x86-64,
+// lacks; these products are most of the time of a large eigenproblem.
+void multiply(bool transpose_a, double alpha, const Eigen::Ref<const Matrix>& A, const Eigen::Ref<const Matrix>& B,
+              double beta, Eigen::Ref<Matrix> C) {
+    const SerialBlas serial;
+    cblas_dgemm(CblasColMajor, transpose_a ? CblasTrans : CblasNoTrans, CblasNoTrans, static_cast<int>(C.rows()),
+                static_cast<int>(C.cols()), static_cast<int>(B.rows()), alpha, A.data(),
+                static_cast<int>(A.outerStride()), B.data(), static_cast<int>(B.outerStride()), beta, C.data(),
+                static_cast<int>(C.outerStride()));
+}
+
+// W ← W − V (Vᵀ M W): one classical Gram–Schmidt pass, which leaves components of size
+// ε‖W‖ / ‖result‖ along V, so that it is done twice to reach rounding ("twice is enough").
+// Returns the coefficients Vᵀ M W.
+Matrix project_out(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix& W) {
+    Matrix C(V.cols(), W.cols());
+    if (V.cols() == 0) return C;
+    const Matrix MW = M * W;
+    multiply(true, 1.0, V, MW, 0.0, C);
+    multiply(false, -1.0, V, C, 1.0, W);
+    return C;
+}
+
+Matrix gram(const Matrix& W, const Sparse& M) {
+    const Matrix MW = M * W;
+    Matrix G(W.cols(), W.cols());
+    multiply(true, 1.0, W, MW, 0.0, G);
+    return 0.5 * (G + G.transpose());
+}
+
+// W = Q R with QᵀMQ = I, by SVQB (eigendecomposition of the Gram matrix, then scaling): done
+// twice, since one pass loses orthogonality in proportion to the square of W's condition number.
+// Directions of norm below kLostDirection · `scale` are dropped (their rows of R are zero) and
+// replaced by random ones orthogonalized against V. W is overwritten by Q; returns R.
+Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix& W, double scale,
+                      std::uint64_t seed) {
+    const Index b = W.cols();
+    const Eigen::SelfAdjointEigenSolver<Matrix> first(gram(W, M));
+    const Eigen::VectorXd d = first.eigenvalues().cwiseMax(0.0);
+    const double lost_below = kLostDirection * kLostDirection * scale * scale;
+    Matrix R = Matrix::Zero(b, b), scaled = Matrix::Zero(b, b);
+    Index lost = 0;
+    for (Index i = 0; i < b; ++i) {
+        if (d[i] <= lost_below) {
+            ++lost;
+            continue;
+        }
+        const double s = std::sqrt(d[i]);
+        scaled.col(i) = first.eigenvectors().col(i) / s;
+        R.row(i) = s * first.eigenvectors().col(i).transpose();
+    }
+    Matrix Q(W.rows(), b);
+    multiply(false, 1.0, W, scaled, 0.0, Q);
+    if (lost > 0) {
+        // The eigenvalues are ascending, so the lost directions are the first columns.
+        Matrix fresh = random_columns(W.rows(), lost, seed);
+        project_out(V, M, fresh);
+        project_out(V, M, fresh);
+        Q.leftCols(lost) = fresh;
+    }
+    const Eigen::SelfAdjointEigenSolver<Matrix> second(gram(Q, M));
+    const Eigen::VectorXd d2 = second.eigenvalues();
+    if (!(d2.minCoeff() > 0)) throw NumericalError("eigenpairs: block Lanczos could not extend its basis");
+    const Eigen::VectorXd root = d2.cwiseSqrt();
+    scaled = second.eigenvectors() * root.cwiseInverse().asDiagonal();
+    multiply(false, 1.0, Q, scaled, 0.0, W);
+    return root.asDiagonal() * second.eigenvectors().transpose() * R;
+}
+
+}  // namespace
+
+BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const BlockLanczosOptions& options) {
+    const Index n = M.rows();
+    // Blocks of at most a third of n, so that small problems still take several steps. When the
+    // basis may fill the whole space, the blocks divide n, so that the last one completes it
+    // (the Ritz pairs are then exact).
+    Index b = std::clamp<Index>(options.block_size, 1, std::max<Index>(1, n / 3));
+    Index capacity = std::min<Index>(n, options.max_columns);
+    if (capacity == n)
+        while (n % b != 0) --b;
+    else
+        capacity = capacity / b * b;
+    const Index wanted = std::min<Index>(options.wanted, capacity);
+
+    BlockLanczosResult result;
+    Matrix V(n, capacity);  // pages are touched only as the basis grows
+    Matrix T = Matrix::Zero(capacity, capacity);
+    {
+        Matrix start = random_columns(n, b, 1);
+        orthonormalize(V.leftCols(0), M, start, 1.0, 2);
+        V.leftCols(b) = start;
+    }
+    Eigen::SelfAdjointEigenSolver<Matrix> ritz;
+    Index m = 0;
+    for (Index step = 0; (step + 1) * b <= capacity; ++step) {
+        m = (step + 1) * b;
+        Matrix W = K.solve_columns(M * V.middleCols(step * b, b));
+        result.solves += static_cast<int>(b);
+        result.steps = static_cast<int>(step + 1);
+        double scale = 0;
+        for (Index j = 0; j < b; ++j) scale = std::max(scale, std::sqrt(W.col(j).dot(M * W.col(j))));
+        // S Q_j has large components only along the last two blocks (the Lanczos recurrence);
+        // along the older ones they are rounding errors grown by the loss of orthogonality. So a
+        // first pass against the last two blocks, then one against the whole basis, which also
+        // cleans the first pass's rounding: as accurate as two full passes, half the reads.
+        const Index local = std::min<Index>(m, 2 * b);
+        const Matrix near = project_out(V.middleCols(m - local, local), M, W);
+        Matrix H = project_out(V.leftCols(m), M, W);
+        H.bottomRows(local) += near;
+        const Matrix A = H.bottomRows(b);
+        T.block(step * b, step * b, b, b) = 0.5 * (A + A.transpose());
+
+        // The Ritz pairs of T: S V = V T + W Eᵀ, so the residual of Ritz vector V s is
+        // ‖W s_last‖_M with s_last the last b entries of s.
+        if (m >= wanted) {
+            ritz.compute(T.topLeftCorner(m, m));
+            const Matrix G = gram(W, M);
+            bool all = true;
+            for (Index i = 0; i < wanted && all; ++i) {
+                const Index col = m - 1 - i;
+                const double theta = ritz.eigenvalues()[col];
+                const Eigen::VectorXd s = ritz.eigenvectors().col(col).tail(b);
+                const double residual = std::sqrt(std::max(0.0, s.dot(G * s)));
+                all = residual <= options.tolerance * std::max(std::abs(theta), 1e-300);
+            }
+            if (all) {
+                result.converged = true;
+                break;
+            }
+        }
+        if (m + b > capacity) break;
+        const Matrix R = orthonormalize(V.leftCols(m), M, W, scale, 3 + static_cast<std::uint64_t>(step));
+        V.middleCols(m, b) = W;
+        T.block(m, step * b, b, b) = R;
+        T.block(step * b, m, b, b) = R.transpose();
+    }
+    if (m < wanted) ritz.compute(T.topLeftCorner(m, m));
+    const Index count = std::min(wanted, m);
+    // Largest θ first, i.e. smallest λ first.
+    const Matrix S = ritz.eigenvectors().rightCols(count).rowwise().reverse();
+    result.ritz_vectors.resize(n, count);
+    multiply(false, 1.0, V.leftCols(m), S, 0.0, result.ritz_vectors);
+    return result;
+}
+
+}  // namespace sdmesh::detail
