@@ -116,8 +116,8 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
     // Blocks of at most a third of n, so that small problems still take several steps. When the
     // basis may fill the whole space, the blocks divide n, so that the last one completes it
     // (the Ritz pairs are then exact).
-    Index b = std::clamp<Index>(options.block_size, 1, std::max<Index>(1, n / 3));
     Index capacity = std::min<Index>(n, options.max_columns);
+    Index b = std::clamp<Index>(options.block_size, 1, std::max<Index>(1, std::min(n / 3, capacity)));
     if (capacity == n)
         while (n % b != 0) --b;
     else
@@ -139,8 +139,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
         Matrix W = K.solve_columns(M * V.middleCols(step * b, b));
         result.solves += static_cast<int>(b);
         result.steps = static_cast<int>(step + 1);
-        double scale = 0;
-        for (Index j = 0; j < b; ++j) scale = std::max(scale, std::sqrt(W.col(j).dot(M * W.col(j))));
+        const double scale = std::sqrt(gram(W, M).diagonal().maxCoeff());
         // S Q_j has large components only along the last two blocks (the Lanczos recurrence);
         // along the older ones they are rounding errors grown by the loss of orthogonality. So a
         // first pass against the last two blocks, then one against the whole basis, which also
@@ -163,7 +162,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
                 const double theta = ritz.eigenvalues()[col];
                 const Eigen::VectorXd s = ritz.eigenvectors().col(col).tail(b);
                 const double residual = std::sqrt(std::max(0.0, s.dot(G * s)));
-                all = residual <= options.tolerance * std::max(std::abs(theta), 1e-300);
+                all = residual <= options.tolerance * theta;  // θ > 0: K and M are positive definite
             }
             if (all) {
                 result.converged = true;
@@ -176,11 +175,10 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
         T.block(m, step * b, b, b) = R;
         T.block(step * b, m, b, b) = R.transpose();
     }
-    if (m < wanted) ritz.compute(T.topLeftCorner(m, m));
-    const Index count = std::min(wanted, m);
-    // Largest θ first, i.e. smallest λ first.
-    const Matrix S = ritz.eigenvectors().rightCols(count).rowwise().reverse();
-    result.ritz_vectors.resize(n, count);
+    // The last step had m = capacity >= wanted, so `ritz` holds the final Ritz pairs. Largest θ
+    // first, i.e. smallest λ first.
+    const Matrix S = ritz.eigenvectors().rightCols(wanted).rowwise().reverse();
+    result.ritz_vectors.resize(n, wanted);
     multiply(false, 1.0, V.leftCols(m), S, 0.0, result.ritz_vectors);
     return result;
 }

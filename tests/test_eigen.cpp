@@ -141,6 +141,10 @@ TEST(BlockLanczos, ABasisTooSmallIsReportedAsNotConverged) {
     EXPECT_EQ(r.values.size(), 20);
     EXPECT_GT(r.report.max_residual, 1e-8);
     EXPECT_LE(r.report.max_orthogonality_error, 1e-10);
+    // A basis narrower than a block: one block of its width.
+    const EigenResult narrow = smallest_eigenpairs(cotan_laplacian(t), mass_matrix(t), {.k = 1, .basis_size = 2});
+    EXPECT_EQ(narrow.values.size(), 1);
+    EXPECT_EQ(narrow.report.solves, 2);
 }
 
 // Two icospheres side by side in one matrix pair (block diagonal): two zero eigenvalues, each
