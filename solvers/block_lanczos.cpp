@@ -5,12 +5,11 @@
 #include <cstdint>
 
 #include <Eigen/Eigenvalues>
-#include <cblas.h>
 
 #include "sdmesh/cholesky.hpp"
 #include "sdmesh/error.hpp"
 
-#include "serial_blas.hpp"
+#include "blas.hpp"
 
 namespace sdmesh::detail {
 namespace {
@@ -37,18 +36,6 @@ Matrix random_columns(Index n, Index b, std::uint64_t seed) {
             X(i, j) = static_cast<double>(z >> 11) * 0x1.0p-52 - 1.0;
         }
     return X;
-}
-
-// C ← alpha · op(A) · B + beta · C with op(A) = Aᵀ or A, by the system BLAS: OpenBLAS (what
-// setup installs) picks AVX-512 kernels at run time, which Eigen, compiled for baseline x86-64,
-// lacks; these products are most of the time of a large eigenproblem.
-void multiply(bool transpose_a, double alpha, const Eigen::Ref<const Matrix>& A, const Eigen::Ref<const Matrix>& B,
-              double beta, Eigen::Ref<Matrix> C) {
-    const SerialBlas serial;
-    cblas_dgemm(CblasColMajor, transpose_a ? CblasTrans : CblasNoTrans, CblasNoTrans, static_cast<int>(C.rows()),
-                static_cast<int>(C.cols()), static_cast<int>(B.rows()), alpha, A.data(),
-                static_cast<int>(A.outerStride()), B.data(), static_cast<int>(B.outerStride()), beta, C.data(),
-                static_cast<int>(C.outerStride()));
 }
 
 // W ← W − V (Vᵀ M W): one classical Gram–Schmidt pass, which leaves components of size

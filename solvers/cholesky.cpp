@@ -10,7 +10,7 @@
 #include "sdmesh/error.hpp"
 
 #include "prefault.hpp"
-#include "serial_blas.hpp"
+#include "blas.hpp"
 
 namespace sdmesh {
 namespace {

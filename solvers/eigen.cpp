@@ -14,6 +14,7 @@
 #include "sdmesh/cholesky.hpp"
 #include "sdmesh/error.hpp"
 
+#include "blas.hpp"
 #include "block_lanczos.hpp"
 #include "free_vertices.hpp"
 
@@ -58,7 +59,7 @@ Eigen::MatrixXd projected(const Eigen::MatrixXd& X, const Sparse& A, const Eigen
     for (Eigen::Index j = 0; j < Y.cols(); j += kBlock) {
         const Eigen::Index width = std::min(kBlock, Y.cols() - j);
         const Eigen::MatrixXd AY = A * Y.middleCols(j, width);
-        P.middleCols(j, width).noalias() = X.transpose() * AY;
+        detail::multiply(true, 1.0, X, AY, 0.0, P.middleCols(j, width));
     }
     return 0.5 * (P + P.transpose());
 }
@@ -182,7 +183,8 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     EigenResult result;
     const Eigen::Index kept = std::min<Eigen::Index>(k, Y.cols());
     result.values = small.eigenvalues().head(kept);
-    const Eigen::MatrixXd phi = Y * small.eigenvectors().leftCols(kept);
+    Eigen::MatrixXd phi(Y.rows(), kept);
+    detail::multiply(false, 1.0, Y, small.eigenvectors().leftCols(kept), 0.0, phi);
     for (Eigen::Index j = 0; j < phi.cols(); ++j) {
         const double lambda = result.values[j];
         const Eigen::VectorXd L_phi = L * phi.col(j), M_phi = M * phi.col(j);
