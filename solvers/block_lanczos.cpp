@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 
@@ -22,6 +23,8 @@ using Index = Eigen::Index;
 // orthogonalization is numerically inside the basis already (an invariant subspace was found);
 // it is replaced by a fresh random direction.
 constexpr double kLostDirection = 1e-10;
+// A block whose squared condition number is below this is orthonormal to ~100 ε after one SVQB.
+constexpr double kRepeatCondition = 100;
 
 // Deterministic pseudo-random columns in [-1, 1) (splitmix64), the same on every platform.
 Matrix random_columns(Index n, Index b, std::uint64_t seed) {
@@ -41,10 +44,12 @@ Matrix random_columns(Index n, Index b, std::uint64_t seed) {
 // W ← W − V (Vᵀ M W): one classical Gram–Schmidt pass, which leaves components of size
 // ε‖W‖ / ‖result‖ along V, so that it is done twice to reach rounding ("twice is enough").
 // Returns the coefficients Vᵀ M W.
-Matrix project_out(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix& W) {
+// `largest_norm`, when given, receives the largest M-norm of W's columns before the projection.
+Matrix project_out(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix& W, double* largest_norm = nullptr) {
     Matrix C(V.cols(), W.cols());
     if (V.cols() == 0) return C;
     const Matrix MW = M * W;
+    if (largest_norm) *largest_norm = std::sqrt(W.cwiseProduct(MW).colwise().sum().maxCoeff());
     multiply(true, 1.0, V, MW, 0.0, C);
     multiply(false, -1.0, V, C, 1.0, W);
     return C;
@@ -57,14 +62,15 @@ Matrix gram(const Matrix& W, const Sparse& M) {
     return 0.5 * (G + G.transpose());
 }
 
-// W = Q R with QᵀMQ = I, by SVQB (eigendecomposition of the Gram matrix, then scaling): done
-// twice, since one pass loses orthogonality in proportion to the square of W's condition number.
-// Directions of norm below kLostDirection · `scale` are dropped (their rows of R are zero) and
-// replaced by random ones orthogonalized against V. W is overwritten by Q; returns R.
-Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix& W, double scale,
+// W = Q R with QᵀMQ = I, by SVQB (eigendecomposition of the Gram matrix G = WᵀMW, then
+// scaling). One pass loses orthogonality in proportion to the square of W's condition number, so
+// a second pass follows when that square exceeds kRepeatCondition. Directions of norm below
+// kLostDirection · `scale` are dropped (their rows of R are zero) and replaced by random ones
+// orthogonalized against V. W is overwritten by Q; returns R.
+Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix& W, const Matrix& G, double scale,
                       std::uint64_t seed) {
     const Index b = W.cols();
-    const Eigen::SelfAdjointEigenSolver<Matrix> first(gram(W, M));
+    const Eigen::SelfAdjointEigenSolver<Matrix> first(G);
     const Eigen::VectorXd d = first.eigenvalues().cwiseMax(0.0);
     const double lost_below = kLostDirection * kLostDirection * scale * scale;
     Matrix R = Matrix::Zero(b, b), scaled = Matrix::Zero(b, b);
@@ -86,6 +92,9 @@ Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix
         project_out(V, M, fresh);
         project_out(V, M, fresh);
         Q.leftCols(lost) = fresh;
+    } else if (d[b - 1] <= kRepeatCondition * d[0]) {
+        W = std::move(Q);
+        return R;
     }
     const Eigen::SelfAdjointEigenSolver<Matrix> second(gram(Q, M));
     const Eigen::VectorXd d2 = second.eigenvalues();
@@ -116,7 +125,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
     Matrix T = Matrix::Zero(capacity, capacity);
     {
         Matrix start = random_columns(n, b, 1);
-        orthonormalize(V.leftCols(0), M, start, 1.0, 2);
+        orthonormalize(V.leftCols(0), M, start, gram(start, M), 1.0, 2);
         V.leftCols(b) = start;
     }
     Eigen::SelfAdjointEigenSolver<Matrix> ritz;
@@ -126,13 +135,13 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
         Matrix W = K.solve_columns(M * V.middleCols(step * b, b));
         result.solves += static_cast<int>(b);
         result.steps = static_cast<int>(step + 1);
-        const double scale = std::sqrt(gram(W, M).diagonal().maxCoeff());
         // S Q_j has large components only along the last two blocks (the Lanczos recurrence);
         // along the older ones they are rounding errors grown by the loss of orthogonality. So a
         // first pass against the last two blocks, then one against the whole basis, which also
         // cleans the first pass's rounding: as accurate as two full passes, half the reads.
         const Index local = std::min<Index>(m, 2 * b);
-        const Matrix near = project_out(V.middleCols(m - local, local), M, W);
+        double scale = 0;  // W's largest M-norm before the projections
+        const Matrix near = project_out(V.middleCols(m - local, local), M, W, &scale);
         Matrix H = project_out(V.leftCols(m), M, W);
         H.bottomRows(local) += near;
         const Matrix A = H.bottomRows(b);
@@ -140,9 +149,9 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
 
         // The Ritz pairs of T: S V = V T + W Eᵀ, so the residual of Ritz vector V s is
         // ‖W s_last‖_M with s_last the last b entries of s.
+        const Matrix G = gram(W, M);
         if (m >= wanted) {
             ritz.compute(T.topLeftCorner(m, m));
-            const Matrix G = gram(W, M);
             bool all = true;
             for (Index i = 0; i < wanted && all; ++i) {
                 const Index col = m - 1 - i;
@@ -157,7 +166,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
             }
         }
         if (m + b > capacity) break;
-        const Matrix R = orthonormalize(V.leftCols(m), M, W, scale, 3 + static_cast<std::uint64_t>(step));
+        const Matrix R = orthonormalize(V.leftCols(m), M, W, G, scale, 3 + static_cast<std::uint64_t>(step));
         V.middleCols(m, b) = W;
         T.block(m, step * b, b, b) = R;
         T.block(step * b, m, b, b) = R.transpose();
