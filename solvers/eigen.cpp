@@ -88,9 +88,18 @@ void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& optio
                                  "circumcentric dual cell, which conversion to self-Delaunay removes)");
 }
 
-// The shift-invert Ritz vectors of the `nev` smallest eigenvalues by Spectra's Lanczos.
-Eigen::MatrixXd spectra_ritz_vectors(const Sparse& L, const Sparse& M, int nev, int basis, const EigenOptions& options,
-                                     EigenReport& report) {
+struct Eigenpairs {
+    Eigen::VectorXd values;   // ascending
+    Eigen::MatrixXd vectors;  // M-orthonormal
+};
+
+// The k smallest pairs by Spectra's Lanczos, which must converge with `nev` - k more, then
+// Rayleigh–Ritz on the span of its Ritz vectors (a dense generalized problem): Spectra's
+// vectors drift from M-orthogonality within clusters of equal eigenvalues, this restores it to
+// rounding and gives each pair its Rayleigh quotient. Products with L and M run over a few
+// columns at a time, so no further n x k matrix is made (their first touch is slow).
+Eigenpairs spectra_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, int basis, const EigenOptions& options,
+                              EigenReport& report) {
     ShiftInvertOp op(L, M, report.solves);
     Spectra::SparseSymMatProd<double> mass_op(M);
     Spectra::SymGEigsShiftSolver<ShiftInvertOp, Spectra::SparseSymMatProd<double>, Spectra::GEigsMode::ShiftInvert>
@@ -107,19 +116,30 @@ Eigen::MatrixXd spectra_ritz_vectors(const Sparse& L, const Sparse& M, int nev, 
     report.iterations = static_cast<int>(lanczos.num_iterations());
     report.status =
         lanczos.info() == Spectra::CompInfo::Successful ? EigenStatus::converged : EigenStatus::not_converged;
-    return lanczos.eigenvectors();
+
+    const Eigen::MatrixXd Y = lanczos.eigenvectors();
+    const Eigen::MatrixXd A = projected(Y, L, Y), B = projected(Y, M, Y);
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> small(A, B);
+    if (small.info() != Eigen::Success)
+        throw NumericalError("eigenpairs: the Rayleigh-Ritz step failed (M not positive definite?)");
+    const Eigen::Index kept = std::min<Eigen::Index>(k, Y.cols());
+    Eigenpairs pairs{small.eigenvalues().head(kept), Eigen::MatrixXd(Y.rows(), kept)};
+    detail::multiply(false, 1.0, Y, small.eigenvectors().leftCols(kept), 0.0, pairs.vectors);
+    return pairs;
 }
 
-// The same by block Lanczos (block_lanczos.hpp).
-Eigen::MatrixXd block_ritz_vectors(const Sparse& L, const Sparse& M, int nev, int basis, double tolerance,
-                                   EigenReport& report) {
+// The k smallest pairs by block Lanczos (block_lanczos.hpp), whose Ritz vectors are M-orthonormal
+// to rounding already; λ = σ + 1/θ is as accurate as a Rayleigh quotient (both err by the
+// square of the residual).
+Eigenpairs block_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, int basis, double tolerance,
+                            EigenReport& report) {
     const CholeskySolver factor(Sparse(L - report.sigma * M));
-    detail::BlockLanczosResult lanczos =
-        detail::block_lanczos(factor, M, {.wanted = nev, .max_columns = basis, .tolerance = tolerance});
+    detail::BlockLanczosResult lanczos = detail::block_lanczos(
+        factor, M, {.wanted = k, .margin = nev - k, .max_columns = basis, .tolerance = tolerance});
     report.iterations = lanczos.steps;
     report.solves = lanczos.solves;
     report.status = lanczos.converged ? EigenStatus::converged : EigenStatus::not_converged;
-    return std::move(lanczos.ritz_vectors);
+    return {report.sigma + lanczos.ritz_values.cwiseInverse().array(), std::move(lanczos.ritz_vectors)};
 }
 
 }  // namespace
@@ -168,23 +188,11 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
                                    std::to_string(L.diagonal().sum()) + ", trace(M) = " +
                                    std::to_string(M.diagonal().sum()) + "); pass sigma");
 
-    const Eigen::MatrixXd Y = block ? block_ritz_vectors(L, M, nev, basis, options.tolerance, report)
-                                    : spectra_ritz_vectors(L, M, nev, basis, options, report);
-
-    // Rayleigh–Ritz on the span of the Ritz vectors (a k x k dense generalized problem): Lanczos
-    // vectors drift from M-orthogonality within clusters of equal eigenvalues, this restores it
-    // to rounding and gives each pair its Rayleigh quotient. Products with L and M run over a few
-    // columns at a time, so no further n x k matrix is made (their first touch is slow).
-    const Eigen::MatrixXd A = projected(Y, L, Y), B = projected(Y, M, Y);
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> small(A, B);
-    if (small.info() != Eigen::Success)
-        throw NumericalError("eigenpairs: the Rayleigh-Ritz step failed (M not positive definite?)");
-
     EigenResult result;
-    const Eigen::Index kept = std::min<Eigen::Index>(k, Y.cols());
-    result.values = small.eigenvalues().head(kept);
-    Eigen::MatrixXd phi(Y.rows(), kept);
-    detail::multiply(false, 1.0, Y, small.eigenvectors().leftCols(kept), 0.0, phi);
+    Eigenpairs pairs = block ? block_eigenpairs(L, M, k, nev, basis, options.tolerance, report)
+                             : spectra_eigenpairs(L, M, k, nev, basis, options, report);
+    result.values = std::move(pairs.values);
+    const Eigen::MatrixXd& phi = pairs.vectors;
     for (Eigen::Index j = 0; j < phi.cols(); ++j) {
         const double lambda = result.values[j];
         const Eigen::VectorXd L_phi = L * phi.col(j), M_phi = M * phi.col(j);
