@@ -149,7 +149,7 @@ std::string_view to_string(EigenStatus status) {
 }
 
 std::string_view to_string(EigenSolver solver) {
-    return solver == EigenSolver::block_lanczos ? "block_lanczos" : "spectra_lanczos";
+    return solver == EigenSolver::block_lanczos ? "block" : "spectra";
 }
 
 EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, const EigenOptions& options) {

@@ -3,8 +3,9 @@
 // semidefinite, M symmetric positive definite, both n x n): shift-invert Lanczos on a sparse
 // Cholesky factor of L − σM with a negative shift σ, so L − σM is positive definite even though
 // L is singular. Two Lanczos variants: block Lanczos (default: blocks of 4 solves, BLAS-3
-// orthogonalization) and Spectra's restarted single-vector Lanczos. The constant functions are not removed: a mesh gets one zero eigenvalue per
-// connected component, and they come out like any other eigenvalue. Spectra and CHOLMOD stay
+// orthogonalization) and Spectra's restarted single-vector Lanczos. The constant functions are
+// not removed: a mesh gets one zero eigenvalue per connected component, and they come out like
+// any other eigenvalue. Spectra and CHOLMOD stay
 // behind this header (target sdmesh::solvers).
 //
 //   const auto t = sdmesh::Triangulation::from_mesh(sdmesh::read_mesh("bunny.obj"));
@@ -24,8 +25,8 @@ namespace sdmesh {
 enum class EigenSolver {
     /// Block Lanczos in the M inner product, blocks of 4 columns, basis not restarted (its size
     /// is basis_size) and a margin of max(10, k/5) extra pairs (converged to 100 × tolerance,
-    /// not returned). 2.7–4× faster than Spectra's
-    /// on meshes of 50k–537k vertices (k = 50, 100), with the same results on any thread count.
+    /// not returned). 2.7–4× faster than Spectra's on meshes of 50k–537k vertices (k = 50,
+    /// 100), with the same results on any thread count.
     block_lanczos,
     /// Spectra's implicitly restarted single-vector Lanczos (SymGEigsShiftSolver).
     spectra_lanczos,
@@ -65,7 +66,7 @@ enum class EigenStatus {
 
 /// "converged" / "not_converged", as in report.json.
 std::string_view to_string(EigenStatus status);
-/// "block_lanczos" / "spectra_lanczos", as in report.json.
+/// "block" / "spectra", as in report.json and `sdmesh eigs --solver`.
 std::string_view to_string(EigenSolver solver);
 
 struct EigenReport {

@@ -300,10 +300,7 @@ py::object eigs_py(py::handle first, py::handle second, int k, const std::option
                    std::optional<double> sigma, double tolerance, int max_iterations, int basis_size,
                    py::handle dirichlet, const std::string& solver, bool return_report) {
     EigenOptions options{.k = k, .tolerance = tolerance, .max_iterations = max_iterations, .basis_size = basis_size};
-    if (solver == "spectra")
-        options.solver = EigenSolver::spectra_lanczos;
-    else if (solver != "block")
-        throw InvalidArgumentError("eigs: solver must be block|spectra, got '" + solver + "'");
+    options.solver = parse_name(solver, "solver", {EigenSolver::block_lanczos, EigenSolver::spectra_lanczos});
     if (sigma) options.sigma = *sigma;
     if (!dirichlet.is_none()) options.dirichlet_vertices = indices_from_array(dirichlet, "dirichlet");
     const Operators ops = solver_operators(first, second, mass, intrinsic);

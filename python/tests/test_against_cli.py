@@ -2,6 +2,7 @@
 reports with the same keys and values (timings aside)."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -118,12 +119,13 @@ def read_eigs(directory):
     return values, vectors, json.loads((directory / "report.json").read_text())
 
 
-@pytest.mark.parametrize("options", [("--mass", "circumcentric"), ("--intrinsic",)])
+@pytest.mark.parametrize("options", [("--mass", "circumcentric"), ("--intrinsic",), ("--solver", "spectra")])
 def test_eigs_equal_the_cli(cli, tmp_path, converted_bunny, options):
     cli("eigs", converted_bunny, "-k", 12, "--out", tmp_path, *options)
     values, vectors, expected = read_eigs(tmp_path)
     V, F = sdmesh.read_mesh(converted_bunny)
-    keywords = {"mass": options[1]} if options[0] == "--mass" else {"intrinsic": True}
+    keywords = {"--mass": {"mass": options[-1]}, "--intrinsic": {"intrinsic": True},
+                "--solver": {"solver": options[-1]}}[options[0]]
     evals, evecs, report = sdmesh.eigs(V, F, 12, return_report=True, **keywords)
     assert np.abs(evals - values).max() <= 1e-10 * max(1.0, np.abs(values).max())
     assert np.abs(evecs - vectors).max() <= 1e-8
@@ -132,6 +134,10 @@ def test_eigs_equal_the_cli(cli, tmp_path, converted_bunny, options):
     if "mass" in keywords:  # the same problem given as matrices
         ops = sdmesh.operators(V, F, mass=keywords["mass"])
         np.testing.assert_array_equal(sdmesh.eigs(ops["L"], ops["M"], k=12)[0], evals)
+    if "solver" in keywords:
+        assert report["solver"] == "spectra"
+        with pytest.raises(sdmesh.InvalidArgumentError, match=re.escape("solver must be block|spectra, got 'arpack'")):
+            sdmesh.eigs(V, F, 12, solver="arpack")
 
 
 def test_geodesic_equals_the_cli(cli, tmp_path, converted_bunny):

@@ -55,8 +55,9 @@ int run_eigs(Args& args) {
     options.sigma = args.number("--sigma").value_or(options.sigma);
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);
     options.solver = args.choice("--solver",
-                                 {std::pair{"block", EigenSolver::block_lanczos},
-                                  std::pair{"spectra", EigenSolver::spectra_lanczos}},
+                                 {std::pair{to_string(EigenSolver::block_lanczos).data(), EigenSolver::block_lanczos},
+                                  std::pair{to_string(EigenSolver::spectra_lanczos).data(),
+                                            EigenSolver::spectra_lanczos}},
                                  options.solver);
     const auto out = args.option("--out");
     const auto path = args.positionals(1, usage)[0];
