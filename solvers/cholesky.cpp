@@ -11,6 +11,7 @@
 
 #include "prefault.hpp"
 #include "blas.hpp"
+#include "supernodal_solve.hpp"
 
 namespace sdmesh {
 namespace {
@@ -152,28 +153,14 @@ void CholeskySolver::factorize(const Eigen::SparseMatrix<double>& A) {
 }
 
 Eigen::MatrixXd CholeskySolver::solve_columns(const Eigen::MatrixXd& b) const {
-    Impl& m = *impl_;
+    const Impl& m = *impl_;
     if (!m.factorized) throw InvalidArgumentError("Cholesky: solve before a successful factorize");
     if (b.rows() != m.size)
         throw InvalidArgumentError("Cholesky: right-hand side has " + std::to_string(b.rows()) + " rows, expected " +
                                    std::to_string(m.size));
-    cholmod_dense rhs{};
-    rhs.nrow = static_cast<size_t>(b.rows());
-    rhs.ncol = static_cast<size_t>(b.cols());
-    rhs.nzmax = rhs.nrow * rhs.ncol;
-    rhs.d = rhs.nrow;
-    rhs.x = const_cast<double*>(b.data());
-    rhs.xtype = CHOLMOD_REAL;
-    rhs.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense* x = nullptr;
-    {
-        const detail::SerialBlas serial;
-        x = cholmod_solve(CHOLMOD_A, m.factor, &rhs, &m.common);
-    }
-    if (!x) throw NumericalError("Cholesky: solve failed (CHOLMOD status " + std::to_string(m.common.status) + ")");
-    Eigen::MatrixXd result = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x), b.rows(), b.cols());
-    cholmod_free_dense(&x, &m.common);
-    return result;
+    Eigen::MatrixXd x(b.rows(), b.cols());
+    detail::supernodal_solve(*m.factor, b, x);
+    return x;
 }
 
 Eigen::VectorXd CholeskySolver::solve(const Eigen::VectorXd& b) const {

@@ -1,7 +1,7 @@
 // Solvers on corpus meshes (issue: solvers): the k smallest eigenpairs of L φ = λ M φ (barycentric
-// mass) on c3d_nefertiti (k = 50), oded_koala (k = 100) and igea_midsub1 (k = 50), and heat-method
-// geodesics on igea_midsub1 (precomputation, then one query). Operators are built outside the
-// timed region. Compare with SciPy's eigsh on the same matrices: experiments/benchmarks/scipy_eigsh.py.
+// mass) on c3d_nefertiti (k = 50), oded_koala (k = 100) and igea_midsub1 (k = 50), the Cholesky
+// solves they are made of, and heat-method geodesics on igea_midsub1 (precomputation, then one
+// query). Operators are built outside the timed region. Compare with SciPy's eigsh on the same matrices: experiments/benchmarks/scipy_eigsh.py.
 //   bench_eigen [--benchmark_filter=...] --benchmark_counters_tabular=true
 
 #include <map>
@@ -10,6 +10,7 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
+#include "sdmesh/cholesky.hpp"
 #include "sdmesh/eigen.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/operators.hpp"
@@ -58,6 +59,36 @@ BENCHMARK_CAPTURE(BM_Eigenpairs, igea_k50_block, "igea_midsub1.obj.gz", 50, kBlo
 BENCHMARK_CAPTURE(BM_Eigenpairs, igea_k50_spectra, "igea_midsub1.obj.gz", 50, kSpectra)
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
+
+// Analysis + factorization of L − σM (as eigenpairs makes it) with each ordering.
+void BM_CholeskyFactor(benchmark::State& state, const std::string& file, sdmesh::CholeskyOrdering ordering) {
+    const sdmesh::Triangulation& t = triangulation(file);
+    const Eigen::SparseMatrix<double> L = sdmesh::cotan_laplacian(t), M = sdmesh::mass_matrix(t);
+    const double sigma = -L.diagonal().sum() / (static_cast<double>(L.rows()) * M.diagonal().sum());
+    const Eigen::SparseMatrix<double> A = L - sigma * M;
+    for (auto _ : state) benchmark::DoNotOptimize(sdmesh::CholeskySolver(A, {.ordering = ordering}).rows());
+    state.counters["vertices"] = t.num_vertices;
+}
+BENCHMARK_CAPTURE(BM_CholeskyFactor, igea_automatic, "igea_midsub1.obj.gz", sdmesh::CholeskyOrdering::automatic)
+    ->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK_CAPTURE(BM_CholeskyFactor, igea_amd, "igea_midsub1.obj.gz", sdmesh::CholeskyOrdering::amd)
+    ->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK_CAPTURE(BM_CholeskyFactor, igea_metis, "igea_midsub1.obj.gz", sdmesh::CholeskyOrdering::metis)
+    ->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// One solve with the factor of L − σM (as eigenpairs uses it) for `columns` right-hand sides.
+void BM_CholeskySolve(benchmark::State& state, const std::string& file) {
+    const sdmesh::Triangulation& t = triangulation(file);
+    const Eigen::SparseMatrix<double> L = sdmesh::cotan_laplacian(t), M = sdmesh::mass_matrix(t);
+    const double sigma = -L.diagonal().sum() / (static_cast<double>(L.rows()) * M.diagonal().sum());
+    const sdmesh::CholeskySolver factor(Eigen::SparseMatrix<double>(L - sigma * M));
+    const Eigen::MatrixXd B = Eigen::MatrixXd::Random(L.rows(), state.range(0));
+    for (auto _ : state) benchmark::DoNotOptimize(factor.solve_columns(B).data());
+    state.counters["vertices"] = t.num_vertices;
+    state.counters["columns"] = static_cast<double>(state.range(0));
+}
+BENCHMARK_CAPTURE(BM_CholeskySolve, nefertiti, "c3d_nefertiti.obj")->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CholeskySolve, igea, "igea_midsub1.obj.gz")->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 
 // The argument is the OpenMP thread count: with two, the factorizations run side by side; with
 // one, they must not run inside an OpenMP region (CHOLMOD was 6x slower there).
