@@ -10,6 +10,7 @@ packages=(build-essential cmake pkg-config zlib1g-dev libeigen3-dev libspectra-d
           libopenmesh-dev libgtest-dev libbenchmark-dev libomp-dev
           python3-dev pybind11-dev python3-numpy python3-scipy
           libblas-dev           # cblas.h and libblas.so, for block Lanczos's products
+          liblapack-dev         # liblapack.so, for its Ritz pairs
           libopenblas0-openmp)  # CHOLMOD's BLAS: 5–10× faster supernodal kernels than reference BLAS
 if [ "${1:-}" = "--tests" ]; then
   packages+=(python3-pytest python3-matplotlib clang libclang-rt-dev)

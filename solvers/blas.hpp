@@ -1,9 +1,21 @@
 #pragma once
-// Private to sdmesh::solvers: the system BLAS (OpenBLAS after setup), on one thread.
+// Private to sdmesh::solvers: the system BLAS and LAPACK (OpenBLAS after setup), on one thread.
+
+#include <algorithm>
+#include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <cblas.h>
 #include <omp.h>
+
+#include "sdmesh/error.hpp"
+
+extern "C" {
+// LAPACK's symmetric eigensolver by divide and conquer (Fortran interface).
+void dsyevd_(const char* jobz, const char* uplo, const int* n, double* a, const int* lda, double* w, double* work,
+             const int* lwork, int* iwork, const int* liwork, int* info);
+}
 
 namespace sdmesh::detail {
 
@@ -61,6 +73,33 @@ inline void multiply(bool transpose_a, double alpha, const Eigen::Ref<const Eige
             dgemm(false, alpha, A.middleRows(first, count), B, beta, C.middleRows(first, count));
     }
     if (transpose_a) C += second_half;
+}
+
+// The `count` largest eigenvalues of the symmetric matrix A (ascending) and their orthonormal
+// eigenvectors, by LAPACK's divide and conquer (dsyevd) on one thread. Only A's lower triangle is
+// read. Block Lanczos's Ritz pairs, whose O(m³) cost grows with k: at k = 200 on nefertiti,
+// Eigen's solver took a quarter of the time (7.4 → 5.3 s with dsyevd, residuals and ΦᵀMΦ − I as
+// small or smaller). dsyevr for just `count` pairs was slower (it bisects for a subset), MRRR
+// (dstemr) on the tridiagonal form for just these pairs about as fast, with 10× larger residuals.
+struct LargestEigenpairs {
+    Eigen::VectorXd values;
+    Eigen::MatrixXd vectors;
+};
+inline LargestEigenpairs largest_eigenpairs(const Eigen::Ref<const Eigen::MatrixXd>& A, int count) {
+    const SerialBlas serial;
+    const int n = static_cast<int>(A.rows()), query = -1;
+    Eigen::MatrixXd a = A;
+    Eigen::VectorXd values(n);
+    int info = 0, iwork_size = 0;
+    double work_size = 0;
+    dsyevd_("V", "L", &n, a.data(), &n, values.data(), &work_size, &query, &iwork_size, &query, &info);
+    const int lwork = static_cast<int>(work_size), liwork = iwork_size;
+    std::vector<double> work(static_cast<size_t>(std::max(lwork, 1)));
+    std::vector<int> iwork(static_cast<size_t>(std::max(liwork, 1)));
+    dsyevd_("V", "L", &n, a.data(), &n, values.data(), work.data(), &lwork, iwork.data(), &liwork, &info);
+    if (info != 0)
+        throw NumericalError("eigenpairs: LAPACK dsyevd failed on the Lanczos matrix (info " + std::to_string(info) + ")");
+    return {values.tail(count), a.rightCols(count)};
 }
 
 }  // namespace sdmesh::detail

@@ -139,7 +139,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
         orthonormalize(V.leftCols(0), M, start, gram(start, M), 1.0, 2);
         V.leftCols(b) = start;
     }
-    Eigen::SelfAdjointEigenSolver<Matrix> ritz;
+    LargestEigenpairs ritz;  // of the last convergence test
     Index m = 0, next_test = 0;
     for (Index step = 0; (step + 1) * b <= capacity; ++step) {
         m = (step + 1) * b;
@@ -162,12 +162,12 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
         // ‖W s_last‖_M with s_last the last b entries of s.
         const Matrix G = gram(W, M);
         if (m >= tested && (step >= next_test || m + b > capacity)) {
-            ritz.compute(T.topLeftCorner(m, m));
+            ritz = largest_eigenpairs(T.topLeftCorner(m, m), static_cast<int>(tested));
             double worst = 0;  // the largest residual over its tolerance
             for (Index i = 0; i < tested; ++i) {
-                const Index col = m - 1 - i;
-                const double theta = ritz.eigenvalues()[col];
-                const Eigen::VectorXd s = ritz.eigenvectors().col(col).tail(b);
+                const Index col = tested - 1 - i;
+                const double theta = ritz.values[col];
+                const Eigen::VectorXd s = ritz.vectors.col(col).tail(b);
                 const double residual = std::sqrt(std::max(0.0, s.dot(G * s)));
                 const double tolerance = i < wanted ? options.tolerance : kMarginTolerance * options.tolerance;
                 worst = std::max(worst, residual / (tolerance * theta));  // θ > 0: K and M are positive definite
@@ -187,8 +187,8 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
     }
     // The last step had m = capacity >= tested, so `ritz` holds the final Ritz pairs. Largest θ
     // first, i.e. smallest λ first.
-    result.ritz_values = ritz.eigenvalues().tail(wanted).reverse();
-    const Matrix S = ritz.eigenvectors().rightCols(wanted).rowwise().reverse();
+    result.ritz_values = ritz.values.tail(wanted).reverse();
+    const Matrix S = ritz.vectors.rightCols(wanted).rowwise().reverse();
     result.ritz_vectors.resize(n, wanted);
     multiply(false, 1.0, V.leftCols(m), S, 0.0, result.ritz_vectors);
     return result;
