@@ -4,6 +4,8 @@
 #include <memory>
 #include <new>
 
+#include "sdmesh/error.hpp"
+
 // Why not cholmod_solve: it makes one dtrsm and one dgemm call per supernode, and a mesh's
 // supernodes are small (igea: 7 columns, 24 rows on average), so with a few right-hand sides its
 // time went to the BLAS calls and their packing rather than to reading the factor. Here each
@@ -154,11 +156,11 @@ bool has_avx2() {
 
 // n zeroed rows, aligned for the widest vector loads (std::vector would align a 256-bit vector
 // type to only 16 bytes when the file is compiled for the baseline).
+constexpr std::align_val_t kRowAlignment{32};
 template <typename Row>
 auto zeroed_rows(size_t n) {
-    constexpr std::align_val_t alignment{32};
-    auto release = [alignment](Row* rows) { ::operator delete[](rows, alignment); };
-    std::unique_ptr<Row[], decltype(release)> rows(static_cast<Row*>(::operator new[](n * sizeof(Row), alignment)),
+    auto release = [](Row* rows) { ::operator delete[](rows, kRowAlignment); };
+    std::unique_ptr<Row[], decltype(release)> rows(static_cast<Row*>(::operator new[](n * sizeof(Row), kRowAlignment)),
                                                    release);
     std::fill(rows.get(), rows.get() + n, Row{});
     return rows;
@@ -190,6 +192,8 @@ void solve_group(const cholmod_factor& factor, const Eigen::Ref<const Eigen::Mat
 
 void supernodal_solve(const cholmod_factor& factor, const Eigen::Ref<const Eigen::MatrixXd>& B,
                       Eigen::Ref<Eigen::MatrixXd> X) {
+    if (!factor.is_super || !factor.is_ll || factor.xtype != CHOLMOD_REAL || factor.itype != CHOLMOD_INT)
+        throw NumericalError("Cholesky: the factor is not a real supernodal LLᵀ factor with int indices");
     for (Eigen::Index first = 0; first < B.cols(); first += 4) {
         const int count = static_cast<int>(std::min<Eigen::Index>(4, B.cols() - first));
         if (count == 1)
