@@ -5,7 +5,8 @@
 #   bash scripts/fuzz.sh --long [SECS]   # developers: SECS per target (default 1800), corpus kept
 # A crash, leak, sanitizer report or timeout stops the run with exit 1; the input is saved as
 # build-fuzz/artifacts/<kind>-<hash> (reproduce: build-fuzz/tests/fuzz/fuzz_<target> FILE) and
-# belongs in a regression test. Environment: SDMESH_FUZZ_DIR (default build-fuzz), JOBS.
+# belongs in a regression test, or in tests/fuzz/regressions/<target>/, which every run replays
+# first. Environment: SDMESH_FUZZ_DIR (default build-fuzz), JOBS.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=45
@@ -20,12 +21,14 @@ mkdir -p "$dir/artifacts" "$dir/logs"
 export OMP_NUM_THREADS=1  # one core per fuzzer; the meshes are small
 for target in read_mesh pipeline; do
     mkdir -p "$dir/corpus/$target"
+    inputs=("$dir/corpus/$target" "$dir/seeds")
+    if [[ -d "tests/fuzz/regressions/$target" ]]; then inputs+=("tests/fuzz/regressions/$target"); fi
     echo "fuzz_$target: $seconds s"
     # -timeout: generous, because a starved (niced, shared-machine) run stalls for seconds; every
     # input so far takes under half a second. -rss_limit_mb: the capped inputs never need more.
     "$dir/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=60 -rss_limit_mb=2048 \
         -max_len=16384 -print_final_stats=1 -artifact_prefix="$dir/artifacts/" \
-        "$dir/corpus/$target" "$dir/seeds" >"$dir/logs/$target.log" 2>&1 || {
+        "${inputs[@]}" >"$dir/logs/$target.log" 2>&1 || {
         tail -n 60 "$dir/logs/$target.log"
         echo "fuzz_$target found a bug: see $dir/logs/$target.log and $dir/artifacts/" >&2
         exit 1

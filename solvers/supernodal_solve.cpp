@@ -1,6 +1,7 @@
 #include "supernodal_solve.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 #include <new>
 
@@ -85,23 +86,29 @@ template <typename Row>
 
 // One right-hand side: the sums over i run four rows at a time in vector lanes, four columns per
 // sweep (a scalar sum would wait on each of its additions).
-typedef double Quad __attribute__((vector_size(4 * sizeof(double)), aligned(sizeof(double)), may_alias));
+typedef double Quad __attribute__((vector_size(4 * sizeof(double))));
 template <>
 [[gnu::always_inline]] inline void subtract_below<double>(const double* block, int height, int columns,
                                                           const double* below, int under, double* w) {
-    const auto quad = [](const double* p) -> const Quad& { return *reinterpret_cast<const Quad*>(p); };
+    // Four doubles from any address (memcpy: Clang keeps a vector type's full alignment even
+    // when a typedef asks for less, and an aligned load from an unaligned address faults).
+    const auto load = [](Quad& q, const double* p) { std::memcpy(&q, p, sizeof q); };
     int j = 0;
     for (; j + 3 < columns; j += 4) {
         const double *c0 = block + static_cast<long>(j) * height, *c1 = c0 + height, *c2 = c1 + height,
                      *c3 = c2 + height;
-        Quad s0{}, s1{}, s2{}, s3{};
+        Quad s0{}, s1{}, s2{}, s3{}, b, x;
         int i = 0;
         for (; i + 3 < under; i += 4) {
-            const Quad b = quad(below + i);
-            s0 += quad(c0 + i) * b;
-            s1 += quad(c1 + i) * b;
-            s2 += quad(c2 + i) * b;
-            s3 += quad(c3 + i) * b;
+            load(b, below + i);
+            load(x, c0 + i);
+            s0 += x * b;
+            load(x, c1 + i);
+            s1 += x * b;
+            load(x, c2 + i);
+            s2 += x * b;
+            load(x, c3 + i);
+            s3 += x * b;
         }
         double t0 = (s0[0] + s0[1]) + (s0[2] + s0[3]), t1 = (s1[0] + s1[1]) + (s1[2] + s1[3]),
                t2 = (s2[0] + s2[1]) + (s2[2] + s2[3]), t3 = (s3[0] + s3[1]) + (s3[2] + s3[3]);
@@ -118,9 +125,13 @@ template <>
     }
     for (; j < columns; ++j) {
         const double* c = block + static_cast<long>(j) * height;
-        Quad s{};
+        Quad s{}, b, x;
         int i = 0;
-        for (; i + 3 < under; i += 4) s += quad(c + i) * quad(below + i);
+        for (; i + 3 < under; i += 4) {
+            load(b, below + i);
+            load(x, c + i);
+            s += x * b;
+        }
         double t = (s[0] + s[1]) + (s[2] + s[3]);
         for (; i < under; ++i) t += c[i] * below[i];
         w[j] -= t;

@@ -1,18 +1,23 @@
-// libFuzzer target: what `sdmesh check`, `convert`, `operators` and `decimate` do, on small
-// decoded meshes.
+// libFuzzer target: what `sdmesh check`, `convert`, `operators`, `decimate`, `eigs` and
+// `poisson` do, on small decoded meshes.
 // The selector byte of fuzz_input.hpp also chooses the conversion method (bits 3-4) and the
 // boundary policy (bit 5). Meshes are capped and convert gets a vertex budget, so that no single
 // input runs long. Bad meshes may only be refused with InvalidMeshError; results must satisfy
 // the identities every caller relies on.
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "fuzz_input.hpp"
 #include "sdmesh/convert.hpp"
 #include "sdmesh/decimate.hpp"
 #include "sdmesh/delaunay.hpp"
+#include "sdmesh/eigen.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/operators.hpp"
+#include "sdmesh/pde.hpp"
 #include "sdmesh/triangulation.hpp"
 #include "sdmesh/validate.hpp"
 
@@ -21,9 +26,13 @@ namespace {
 constexpr int kMaxVertices = 64;
 constexpr int kMaxFaces = 128;
 constexpr long long kVertexBudget = 2000;
+constexpr int kMaxSolverVertices = 300;  // eigs and poisson on the conversions up to this size
 
-void require(bool condition) {
-    if (!condition) std::abort();
+// Aborts (a crash for libFuzzer) naming the identity that failed.
+void require(bool condition, int line = __builtin_LINE()) {
+    if (condition) return;
+    std::fprintf(stderr, "fuzz_pipeline: the requirement on line %d failed\n", line);
+    std::abort();
 }
 
 void check_operators(const sdmesh::TriangleMesh& mesh) {
@@ -53,6 +62,38 @@ void check_decimation(const sdmesh::TriangleMesh& mesh, sdmesh::BoundaryPolicy b
     const sdmesh::MeshInfo after = sdmesh::validate(result.mesh);
     require(after.manifold() && after.genus == before.genus && after.components == before.components &&
             after.boundary_loops == before.boundary_loops);
+}
+
+// sdmesh eigs and poisson on a certified conversion (L positive semidefinite, M positive): the
+// Cholesky factorizations, block Lanczos and the triangular solves may refuse a degenerate mesh
+// only with a typed error; what they return satisfies its equations.
+void check_solvers(const sdmesh::TriangleMesh& mesh) {
+    const sdmesh::Triangulation t = sdmesh::Triangulation::from_mesh(mesh);
+    const int n = t.num_vertices;
+    if (n < 4 || n > kMaxSolverVertices) return;
+    const Eigen::SparseMatrix<double> L = sdmesh::cotan_laplacian(t), M = sdmesh::mass_matrix(t);
+    try {
+        const int k = std::min(6, n - 1);
+        const sdmesh::EigenResult eigen = sdmesh::smallest_eigenpairs(L, M, {.k = k});
+        require(eigen.values.size() == k && eigen.vectors.rows() == n && eigen.vectors.cols() == k);
+        // Not the residual: convergence is measured on the shift-inverted operator, and on meshes
+        // with near-zero vertex areas (1e-11 against 1.5) converged pairs had residuals of 1e-4.
+        if (eigen.report.status == sdmesh::EigenStatus::converged) {
+            require(std::isfinite(eigen.report.max_residual) && eigen.report.max_orthogonality_error <= 1e-8);
+            require(eigen.values.minCoeff() >= -1e-8 * std::max(1.0, eigen.values.cwiseAbs().maxCoeff()));
+        }
+        const sdmesh::PoissonSolver poisson(L, M, {0});
+        const Eigen::VectorXd b = M * Eigen::VectorXd::LinSpaced(n, -1.0, 1.0);
+        const Eigen::VectorXd u = poisson.solve(b, Eigen::VectorXd::Constant(1, 0.5));
+        require(u[0] == 0.5 && u.allFinite());
+        // With one component every other vertex is free: L u = b there.
+        if (sdmesh::validate(mesh).components == 1) {
+            const Eigen::VectorXd residual = (L * u - b).tail(n - 1);
+            require(residual.norm() <= 1e-8 * (L.norm() * u.norm() + b.norm()));
+        }
+    } catch (const sdmesh::NumericalError&) {
+    } catch (const sdmesh::InvalidArgumentError&) {
+    }
 }
 
 }  // namespace
@@ -86,7 +127,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         require(result.mesh.num_vertices() <= kVertexBudget + kMaxVertices);
         require((result.mesh.V.topRows(mesh.num_vertices()).array() == mesh.V.array()).all());
         check_operators(result.mesh);
-        if (result.report.status == sdmesh::ConvertStatus::certified) check_decimation(result.mesh, options.boundary);
+        if (result.report.status == sdmesh::ConvertStatus::certified) {
+            check_decimation(result.mesh, options.boundary);
+            check_solvers(result.mesh);
+        }
     } catch (const sdmesh::InvalidMeshError&) {
     }
     return 0;
