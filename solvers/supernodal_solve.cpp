@@ -54,87 +54,56 @@ template <typename Row>
     }
 }
 
+// sum[k] = Σ_i c_k[i] below[i] for K columns c_k at once, so that each row of `below` is loaded
+// once per K factor entries.
+template <int K, typename Row>
+[[gnu::always_inline]] inline void dot_columns(const double* const* c, const Row* below, int under, Row* sum) {
+    for (int k = 0; k < K; ++k) sum[k] = Row{};
+    for (int i = 0; i < under; ++i)
+        for (int k = 0; k < K; ++k) sum[k] += c[k][i] * below[i];
+}
+
+// One right-hand side: the sums run four rows at a time in vector lanes (a scalar sum would wait
+// on each of its additions).
+typedef double Quad __attribute__((vector_size(4 * sizeof(double))));
+template <int K>
+[[gnu::always_inline]] inline void dot_columns(const double* const* c, const double* below, int under, double* sum) {
+    // Four doubles from any address (memcpy: Clang keeps a vector type's full alignment even
+    // when a typedef asks for less, and an aligned load from an unaligned address faults).
+    const auto load = [](Quad& q, const double* p) { std::memcpy(&q, p, sizeof q); };
+    Quad lanes[K] = {}, b, x;
+    int i = 0;
+    for (; i + 3 < under; i += 4) {
+        load(b, below + i);
+        for (int k = 0; k < K; ++k) {
+            load(x, c[k] + i);
+            lanes[k] += x * b;
+        }
+    }
+    for (int k = 0; k < K; ++k) {
+        sum[k] = (lanes[k][0] + lanes[k][1]) + (lanes[k][2] + lanes[k][3]);
+        for (int r = i; r < under; ++r) sum[k] += c[k][r] * below[r];
+    }
+}
+
 // w[j] −= Σ_i L(i, j) below[i] for the `columns` columns of a supernode's part under its diagonal
-// block, four columns per sweep: each row of `below` is loaded once per four factor entries.
+// block, four columns per sweep.
 template <typename Row>
 [[gnu::always_inline]] inline void subtract_below(const double* block, int height, int columns, const Row* below,
                                                   int under, Row* w) {
     int j = 0;
     for (; j + 3 < columns; j += 4) {
-        const double *c0 = block + static_cast<long>(j) * height, *c1 = c0 + height, *c2 = c1 + height,
-                     *c3 = c2 + height;
-        Row s0{}, s1{}, s2{}, s3{};
-        for (int i = 0; i < under; ++i) {
-            const Row b = below[i];
-            s0 += c0[i] * b;
-            s1 += c1[i] * b;
-            s2 += c2[i] * b;
-            s3 += c3[i] * b;
-        }
-        w[j] -= s0;
-        w[j + 1] -= s1;
-        w[j + 2] -= s2;
-        w[j + 3] -= s3;
+        const double* c[4] = {block + static_cast<long>(j) * height, block + static_cast<long>(j + 1) * height,
+                              block + static_cast<long>(j + 2) * height, block + static_cast<long>(j + 3) * height};
+        Row sum[4];
+        dot_columns<4>(c, below, under, sum);
+        for (int k = 0; k < 4; ++k) w[j + k] -= sum[k];
     }
     for (; j < columns; ++j) {
         const double* c = block + static_cast<long>(j) * height;
-        Row sj{};
-        for (int i = 0; i < under; ++i) sj += c[i] * below[i];
-        w[j] -= sj;
-    }
-}
-
-// One right-hand side: the sums over i run four rows at a time in vector lanes, four columns per
-// sweep (a scalar sum would wait on each of its additions).
-typedef double Quad __attribute__((vector_size(4 * sizeof(double))));
-template <>
-[[gnu::always_inline]] inline void subtract_below<double>(const double* block, int height, int columns,
-                                                          const double* below, int under, double* w) {
-    // Four doubles from any address (memcpy: Clang keeps a vector type's full alignment even
-    // when a typedef asks for less, and an aligned load from an unaligned address faults).
-    const auto load = [](Quad& q, const double* p) { std::memcpy(&q, p, sizeof q); };
-    int j = 0;
-    for (; j + 3 < columns; j += 4) {
-        const double *c0 = block + static_cast<long>(j) * height, *c1 = c0 + height, *c2 = c1 + height,
-                     *c3 = c2 + height;
-        Quad s0{}, s1{}, s2{}, s3{}, b, x;
-        int i = 0;
-        for (; i + 3 < under; i += 4) {
-            load(b, below + i);
-            load(x, c0 + i);
-            s0 += x * b;
-            load(x, c1 + i);
-            s1 += x * b;
-            load(x, c2 + i);
-            s2 += x * b;
-            load(x, c3 + i);
-            s3 += x * b;
-        }
-        double t0 = (s0[0] + s0[1]) + (s0[2] + s0[3]), t1 = (s1[0] + s1[1]) + (s1[2] + s1[3]),
-               t2 = (s2[0] + s2[1]) + (s2[2] + s2[3]), t3 = (s3[0] + s3[1]) + (s3[2] + s3[3]);
-        for (; i < under; ++i) {
-            t0 += c0[i] * below[i];
-            t1 += c1[i] * below[i];
-            t2 += c2[i] * below[i];
-            t3 += c3[i] * below[i];
-        }
-        w[j] -= t0;
-        w[j + 1] -= t1;
-        w[j + 2] -= t2;
-        w[j + 3] -= t3;
-    }
-    for (; j < columns; ++j) {
-        const double* c = block + static_cast<long>(j) * height;
-        Quad s{}, b, x;
-        int i = 0;
-        for (; i + 3 < under; i += 4) {
-            load(b, below + i);
-            load(x, c + i);
-            s += x * b;
-        }
-        double t = (s[0] + s[1]) + (s[2] + s[3]);
-        for (; i < under; ++i) t += c[i] * below[i];
-        w[j] -= t;
+        Row sum;
+        dot_columns<1>(&c, below, under, &sum);
+        w[j] -= sum;
     }
 }
 
