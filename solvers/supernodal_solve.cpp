@@ -165,11 +165,6 @@ template <int R>
 }
 #endif
 
-template <int R>
-void substitute_baseline(const cholmod_factor& factor, typename Lanes<R>::type* y, typename Lanes<R>::type* below) {
-    substitute<R>(factor, y, below);
-}
-
 bool has_avx2() {
 #if defined(__x86_64__) || defined(__i386__)
     static const bool available = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
@@ -208,7 +203,7 @@ void solve_group(const cholmod_factor& factor, const Eigen::Ref<const Eigen::Mat
         substitute_avx2<R>(factor, y.get(), below.get());
     else
 #endif
-        substitute_baseline<R>(factor, y.get(), below.get());
+        substitute<R>(factor, y.get(), below.get());
     for (Eigen::Index i = 0; i < n; ++i)  // x = Pᵀ w
         for (int c = 0; c < count; ++c) X(perm[i], first + c) = lane(y[i], c);
 }
