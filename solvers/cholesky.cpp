@@ -37,6 +37,7 @@ void use_prefaulted_malloc() {
 struct CholeskySolver::Impl {
     cholmod_common common{};
     cholmod_factor* factor = nullptr;
+    detail::SolvePlan solve_plan;  // of the analysed structure
     int size = 0;
     long long pattern_nonzeros = 0;
     bool factorized = false;
@@ -128,6 +129,7 @@ void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A, const Cholesk
     }
     if (!m.factor) throw NumericalError("Cholesky: symbolic analysis failed (CHOLMOD status " +
                                         std::to_string(m.common.status) + ")");
+    m.solve_plan = detail::plan_solve(*m.factor);
     m.size = static_cast<int>(A.rows());
     m.pattern_nonzeros = A.nonZeros();
     m.factorized = false;
@@ -159,7 +161,7 @@ Eigen::MatrixXd CholeskySolver::solve_columns(const Eigen::MatrixXd& b) const {
         throw InvalidArgumentError("Cholesky: right-hand side has " + std::to_string(b.rows()) + " rows, expected " +
                                    std::to_string(m.size));
     Eigen::MatrixXd x(b.rows(), b.cols());
-    detail::supernodal_solve(*m.factor, b, x);
+    detail::supernodal_solve(*m.factor, m.solve_plan, b, x);
     return x;
 }
 

@@ -5,6 +5,8 @@
 #include <memory>
 #include <new>
 
+#include <omp.h>
+
 #include "sdmesh/error.hpp"
 
 // Why not cholmod_solve: it makes one dtrsm and one dgemm call per supernode, and a mesh's
@@ -107,27 +109,38 @@ template <typename Row>
     }
 }
 
-// y ← L⁻ᵀ L⁻¹ y in the factor's ordering, supernode by supernode. Each supernode's block is
-// `height` x `columns`, column-major: a dense lower triangle on top, and below it the rows listed
-// after the supernode's own columns, which are scattered over y; `below` holds those rows,
-// gathered, so that every column of the block reads them from one place.
-template <int R>
-[[gnu::always_inline]] inline void substitute(const cholmod_factor& factor, typename Lanes<R>::type* y,
-                                              typename Lanes<R>::type* below) {
-    using Row = typename Lanes<R>::type;
-    const auto* super = static_cast<const int*>(factor.super);
-    const auto* row_start = static_cast<const int*>(factor.pi);
-    const auto* value_start = static_cast<const int*>(factor.px);
-    const auto* rows = static_cast<const int*>(factor.s);
-    const auto* values = static_cast<const double*>(factor.x);
-    const auto supernodes = static_cast<long>(factor.nsuper);
+// The factor's supernodes. Each supernode's block is `height` x `columns`, column-major: a dense
+// lower triangle on top, and below it the rows listed after the supernode's own columns, which
+// are scattered over y; `below` holds those rows, gathered, so that every column of the block
+// reads them from one place.
+struct Supernodes {
+    const int* super;
+    const int* row_start;
+    const int* value_start;
+    const int* rows;
+    const double* values;
 
-    // L z = y: forward substitution on the triangle, then the rows below get their updates.
-    for (long s = 0; s < supernodes; ++s) {
-        const int first = super[s], columns = super[s + 1] - first;
-        const int height = row_start[s + 1] - row_start[s], under = height - columns;
-        const int* row = rows + row_start[s] + columns;
-        const double* block = values + value_start[s];
+    explicit Supernodes(const cholmod_factor& factor)
+        : super(static_cast<const int*>(factor.super)),
+          row_start(static_cast<const int*>(factor.pi)),
+          value_start(static_cast<const int*>(factor.px)),
+          rows(static_cast<const int*>(factor.s)),
+          values(static_cast<const double*>(factor.x)) {}
+};
+
+// L z = y on the given supernodes, ascending: forward substitution on each triangle, then the
+// rows below get their updates. With `top_updates`, the updates of the plan's top rows are added
+// there instead (y −= top_updates follows).
+template <int R>
+[[gnu::always_inline]] inline void forward(const Supernodes& f, const std::vector<int>& supernodes,
+                                           typename Lanes<R>::type* y, typename Lanes<R>::type* below,
+                                           typename Lanes<R>::type* top_updates, const int* top_slot) {
+    using Row = typename Lanes<R>::type;
+    for (const int s : supernodes) {
+        const int first = f.super[s], columns = f.super[s + 1] - first;
+        const int height = f.row_start[s + 1] - f.row_start[s], under = height - columns;
+        const int* row = f.rows + f.row_start[s] + columns;
+        const double* block = f.values + f.value_start[s];
         Row* z = y + first;
         for (int j = 0; j < columns; ++j) {
             const double* column = block + static_cast<long>(j) * height;
@@ -136,15 +149,32 @@ template <int R>
         }
         std::fill(below, below + under, Row{});
         add_below(block + columns, height, columns, z, under, below);
-        for (int i = 0; i < under; ++i) y[row[i]] -= below[i];
+        if (top_updates) {
+            for (int i = 0; i < under; ++i) {
+                const int slot = top_slot[row[i]];
+                if (slot >= 0)
+                    top_updates[slot] += below[i];
+                else
+                    y[row[i]] -= below[i];
+            }
+        } else {
+            for (int i = 0; i < under; ++i) y[row[i]] -= below[i];
+        }
     }
-    // Lᵀ w = z, in reverse: the rows below (solved already) first, then backward substitution
-    // on the triangle.
-    for (long s = supernodes - 1; s >= 0; --s) {
-        const int first = super[s], columns = super[s + 1] - first;
-        const int height = row_start[s + 1] - row_start[s], under = height - columns;
-        const int* row = rows + row_start[s] + columns;
-        const double* block = values + value_start[s];
+}
+
+// Lᵀ w = z on the given supernodes, descending: the rows below (solved already) first, then
+// backward substitution on each triangle.
+template <int R>
+[[gnu::always_inline]] inline void backward(const Supernodes& f, const std::vector<int>& supernodes,
+                                            typename Lanes<R>::type* y, typename Lanes<R>::type* below) {
+    using Row = typename Lanes<R>::type;
+    for (auto s_it = supernodes.rbegin(); s_it != supernodes.rend(); ++s_it) {
+        const int s = *s_it;
+        const int first = f.super[s], columns = f.super[s + 1] - first;
+        const int height = f.row_start[s + 1] - f.row_start[s], under = height - columns;
+        const int* row = f.rows + f.row_start[s] + columns;
+        const double* block = f.values + f.value_start[s];
         Row* w = y + first;
         for (int i = 0; i < under; ++i) below[i] = y[row[i]];
         subtract_below(block + columns, height, columns, below, under, w);
@@ -157,11 +187,23 @@ template <int R>
     }
 }
 
+// One sweep over a list of supernodes, forward or backward.
+template <int R>
+[[gnu::always_inline]] inline void sweep(bool is_forward, const Supernodes& f, const std::vector<int>& supernodes,
+                                         typename Lanes<R>::type* y, typename Lanes<R>::type* below,
+                                         typename Lanes<R>::type* top_updates, const int* top_slot) {
+    if (is_forward)
+        forward<R>(f, supernodes, y, below, top_updates, top_slot);
+    else
+        backward<R>(f, supernodes, y, below);
+}
+
 #if defined(__x86_64__) || defined(__i386__)
 template <int R>
-[[gnu::target("avx2,fma")]] void substitute_avx2(const cholmod_factor& factor, typename Lanes<R>::type* y,
-                                                 typename Lanes<R>::type* below) {
-    substitute<R>(factor, y, below);
+[[gnu::target("avx2,fma")]] void sweep_avx2(bool is_forward, const Supernodes& f, const std::vector<int>& supernodes,
+                                            typename Lanes<R>::type* y, typename Lanes<R>::type* below,
+                                            typename Lanes<R>::type* top_updates, const int* top_slot) {
+    sweep<R>(is_forward, f, supernodes, y, below, top_updates, top_slot);
 }
 #endif
 
@@ -186,42 +228,166 @@ auto zeroed_rows(size_t n) {
     return rows;
 }
 
+template <int R>
+void run_sweep(bool is_forward, const Supernodes& f, const std::vector<int>& supernodes, typename Lanes<R>::type* y,
+               typename Lanes<R>::type* below, typename Lanes<R>::type* top_updates = nullptr,
+               const int* top_slot = nullptr) {
+#if defined(__x86_64__) || defined(__i386__)
+    if (has_avx2()) return sweep_avx2<R>(is_forward, f, supernodes, y, below, top_updates, top_slot);
+#endif
+    sweep<R>(is_forward, f, supernodes, y, below, top_updates, top_slot);
+}
+
 // Solves for `count` ≤ R columns of B starting at `first`; missing lanes stay zero.
 template <int R>
-void solve_group(const cholmod_factor& factor, const Eigen::Ref<const Eigen::MatrixXd>& B,
+void solve_group(const cholmod_factor& factor, const SolvePlan& plan, const Eigen::Ref<const Eigen::MatrixXd>& B,
                  Eigen::Ref<Eigen::MatrixXd> X, Eigen::Index first, int count) {
     using Row = typename Lanes<R>::type;
+    const Supernodes f(factor);
     const auto n = static_cast<Eigen::Index>(factor.n);
     const auto* perm = static_cast<const int*>(factor.Perm);
     const auto y = zeroed_rows<Row>(static_cast<size_t>(n));
-    const auto below = zeroed_rows<Row>(std::max<size_t>(factor.maxesize, 1));
+    const size_t below_size = std::max<size_t>(factor.maxesize, 1);
+    const auto below = zeroed_rows<Row>(2 * below_size);
+    const auto top_updates = zeroed_rows<Row>(static_cast<size_t>(std::max(plan.top_columns, 1)));
     auto lane = [](Row& row, int c) -> double& { return reinterpret_cast<double*>(&row)[c]; };
     for (Eigen::Index i = 0; i < n; ++i)  // y = P b
         for (int c = 0; c < count; ++c) lane(y[i], c) = B(perm[i], first + c);
-#if defined(__x86_64__) || defined(__i386__)
-    if (has_avx2())
-        substitute_avx2<R>(factor, y.get(), below.get());
-    else
-#endif
-        substitute<R>(factor, y.get(), below.get());
+
+    const bool split = !plan.parts[0].empty();
+    const int threads = std::min(2, omp_get_max_threads());
+#pragma omp parallel for num_threads(threads) schedule(static, 1) if (split)
+    for (int part = 0; part < 2; ++part)
+        run_sweep<R>(true, f, plan.parts[part], y.get(), below.get() + part * below_size,
+                     part == 1 ? top_updates.get() : nullptr, plan.top_slot.data());
+    if (split) {
+        int slot = 0;
+        for (const int s : plan.top)
+            for (int column = f.super[s]; column < f.super[s + 1]; ++column) y[column] -= top_updates[slot++];
+    }
+    run_sweep<R>(true, f, plan.top, y.get(), below.get());
+    run_sweep<R>(false, f, plan.top, y.get(), below.get());
+#pragma omp parallel for num_threads(threads) schedule(static, 1) if (split)
+    for (int part = 0; part < 2; ++part)
+        run_sweep<R>(false, f, plan.parts[part], y.get(), below.get() + part * below_size);
+
     for (Eigen::Index i = 0; i < n; ++i)  // x = Pᵀ w
         for (int c = 0; c < count; ++c) X(perm[i], first + c) = lane(y[i], c);
 }
 
+// Below this many factor entries a solve takes tens of microseconds, and a second thread would
+// cost as much to start as it saves.
+constexpr long kMinSplitEntries = 200000;
+// The plan stops cutting once the parts differ by this fraction of the factor's entries.
+constexpr double kBalanced = 0.02;
+constexpr int kMaxCuts = 256;
+
 }  // namespace
 
-void supernodal_solve(const cholmod_factor& factor, const Eigen::Ref<const Eigen::MatrixXd>& B,
+SolvePlan plan_solve(const cholmod_factor& factor) {
+    if (!factor.is_super) throw NumericalError("Cholesky: the factor is not supernodal");
+    const Supernodes f(factor);
+    const auto supernodes = static_cast<int>(factor.nsuper);
+    const auto n = static_cast<int>(factor.n);
+    SolvePlan plan;
+
+    // The supernodal elimination tree: a supernode's parent holds the first row below its block.
+    // Parents come after their children. Work is counted in factor entries.
+    std::vector<int> supernode_of(static_cast<size_t>(n));
+    for (int s = 0; s < supernodes; ++s) std::fill(&supernode_of[f.super[s]], &supernode_of[0] + f.super[s + 1], s);
+    std::vector<int> parent(static_cast<size_t>(supernodes), -1), child_count(static_cast<size_t>(supernodes) + 1, 0);
+    std::vector<long> work(static_cast<size_t>(supernodes)), subtree(static_cast<size_t>(supernodes));
+    long total = 0;
+    for (int s = 0; s < supernodes; ++s) {
+        const int columns = f.super[s + 1] - f.super[s], height = f.row_start[s + 1] - f.row_start[s];
+        if (height > columns) parent[s] = supernode_of[f.rows[f.row_start[s] + columns]];
+        work[s] = static_cast<long>(columns) * height;
+        total += work[s];
+    }
+    for (int s = 0; s < supernodes; ++s) {
+        subtree[s] += work[s];
+        if (parent[s] >= 0) {
+            subtree[parent[s]] += subtree[s];
+            ++child_count[parent[s] + 1];
+        }
+    }
+    if (total < kMinSplitEntries) {
+        plan.top.resize(static_cast<size_t>(supernodes));
+        for (int s = 0; s < supernodes; ++s) plan.top[s] = s;
+        return plan;
+    }
+    // Children lists (compressed), ascending.
+    for (int s = 0; s < supernodes; ++s) child_count[s + 1] += child_count[s];
+    std::vector<int> children(static_cast<size_t>(child_count[supernodes])), next(child_count.begin(), child_count.end() - 1);
+    for (int s = 0; s < supernodes; ++s)
+        if (parent[s] >= 0) children[next[parent[s]]++] = s;
+
+    // Cut the heaviest subtree below the cut (its root moves to the top) until the two parts
+    // balance, dealing the subtrees heaviest first to the lighter part; keep the cut with the
+    // least time (top + the heavier part).
+    std::vector<int> frontier;
+    for (int s = 0; s < supernodes; ++s)
+        if (parent[s] < 0) frontier.push_back(s);
+    std::vector<int> best_frontier, best_assignment;
+    long best_cost = total, top_work = 0;
+    std::vector<int> assignment;
+    for (int cut = 0; cut < kMaxCuts && !frontier.empty(); ++cut) {
+        std::sort(frontier.begin(), frontier.end(), [&](int a, int b) {
+            return subtree[a] != subtree[b] ? subtree[a] > subtree[b] : a < b;
+        });
+        long load[2] = {0, 0};
+        assignment.assign(frontier.size(), 0);
+        for (size_t i = 0; i < frontier.size(); ++i) {
+            const int part = load[1] < load[0] ? 1 : 0;
+            assignment[i] = part;
+            load[part] += subtree[frontier[i]];
+        }
+        const long cost = top_work + std::max(load[0], load[1]);
+        if (cost < best_cost) {
+            best_cost = cost;
+            best_frontier = frontier;
+            best_assignment = assignment;
+        }
+        if (static_cast<double>(std::abs(load[0] - load[1])) <= kBalanced * static_cast<double>(total)) break;
+        const int heaviest = frontier.front();
+        frontier.erase(frontier.begin());
+        top_work += work[heaviest];
+        frontier.insert(frontier.end(), &children[child_count[heaviest]], &children[0] + child_count[heaviest + 1]);
+    }
+
+    // Owners, parents before children: a subtree root's part, else its parent's part, else top.
+    std::vector<signed char> owner(static_cast<size_t>(supernodes), -1);
+    for (size_t i = 0; i < best_frontier.size(); ++i) owner[best_frontier[i]] = static_cast<signed char>(best_assignment[i] + 2);
+    for (int s = supernodes - 1; s >= 0; --s) {
+        if (owner[s] >= 2)
+            owner[s] -= 2;
+        else if (parent[s] >= 0 && owner[parent[s]] >= 0)
+            owner[s] = owner[parent[s]];
+    }
+    plan.top_slot.assign(static_cast<size_t>(n), -1);
+    for (int s = 0; s < supernodes; ++s) {
+        if (owner[s] >= 0) {
+            plan.parts[owner[s]].push_back(s);
+            continue;
+        }
+        plan.top.push_back(s);
+        for (int column = f.super[s]; column < f.super[s + 1]; ++column) plan.top_slot[column] = plan.top_columns++;
+    }
+    return plan;
+}
+
+void supernodal_solve(const cholmod_factor& factor, const SolvePlan& plan, const Eigen::Ref<const Eigen::MatrixXd>& B,
                       Eigen::Ref<Eigen::MatrixXd> X) {
     if (!factor.is_super || !factor.is_ll || factor.xtype != CHOLMOD_REAL || factor.itype != CHOLMOD_INT)
         throw NumericalError("Cholesky: the factor is not a real supernodal LLᵀ factor with int indices");
     for (Eigen::Index first = 0; first < B.cols(); first += 4) {
         const int count = static_cast<int>(std::min<Eigen::Index>(4, B.cols() - first));
         if (count == 1)
-            solve_group<1>(factor, B, X, first, count);
+            solve_group<1>(factor, plan, B, X, first, count);
         else if (count == 2)
-            solve_group<2>(factor, B, X, first, count);
+            solve_group<2>(factor, plan, B, X, first, count);
         else
-            solve_group<4>(factor, B, X, first, count);
+            solve_group<4>(factor, plan, B, X, first, count);
     }
 }
 

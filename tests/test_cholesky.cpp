@@ -1,13 +1,19 @@
 // The CHOLMOD wrapper: solves, refactorization on a fixed pattern, typed errors.
 
+#include <cmath>
+#include <string>
+#include <utility>
 #include <vector>
 
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include "sdmesh/cholesky.hpp"
 #include "sdmesh/error.hpp"
+
+#include "supernodal_solve.hpp"  // white-box: the two-thread solve plan
 
 namespace sdmesh {
 namespace {
@@ -65,9 +71,10 @@ TEST(Cholesky, SolvesAnyNumberOfColumnsAsEachAlone) {
     }
 }
 
-// The factor's BLAS runs on one thread whatever the caller's OpenMP setting, so solutions do not
-// depend on it (a 200 x 200 grid has supernodes large enough for a threaded BLAS to split them),
-// and the caller's setting is left as it was.
+// The factor's BLAS runs on one thread whatever the caller's OpenMP setting, and solves share
+// the elimination tree between two threads in a fixed way, so solutions do not depend on it (a
+// 200 x 200 grid has supernodes large enough for a threaded BLAS to split them, and a factor
+// large enough for a two-thread solve), and the caller's setting is left as it was.
 TEST(Cholesky, SolutionsDoNotDependOnTheThreadCount) {
     const Eigen::SparseMatrix<double> A = grid_matrix(200, 0.01);
     const Eigen::MatrixXd b = Eigen::MatrixXd::Random(A.rows(), 2);
@@ -80,6 +87,104 @@ TEST(Cholesky, SolutionsDoNotDependOnTheThreadCount) {
     omp_set_num_threads(initial);
     EXPECT_TRUE(x1 == x2) << "largest difference " << (x1 - x2).cwiseAbs().maxCoeff();
     EXPECT_LT((A * x1 - b).norm(), 1e-10 * b.norm());
+}
+
+// Several components side by side (a forest of elimination trees).
+Eigen::SparseMatrix<double> block_diagonal(const std::vector<Eigen::SparseMatrix<double>>& blocks) {
+    std::vector<Eigen::Triplet<double>> entries;
+    int offset = 0;
+    for (const auto& block : blocks) {
+        for (int j = 0; j < block.outerSize(); ++j)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(block, j); it; ++it)
+                entries.emplace_back(offset + static_cast<int>(it.row()), offset + j, it.value());
+        offset += static_cast<int>(block.rows());
+    }
+    Eigen::SparseMatrix<double> A(offset, offset);
+    A.setFromTriplets(entries.begin(), entries.end());
+    return A;
+}
+
+// The plan of a two-thread solve partitions the supernodes into two parts of whole subtrees and
+// a top closed towards the root, with the parts' work (factor entries) balanced, for one tree
+// (nested dissection, AMD) and for a forest.
+TEST(Cholesky, TwoThreadSolvePlanSplitsTheEliminationTreeEvenly) {
+    const std::vector<std::pair<std::string, Eigen::SparseMatrix<double>>> cases = {
+        {"grid 200", grid_matrix(200, 0.01)},
+        {"three grids", block_diagonal({grid_matrix(150, 0.01), grid_matrix(90, 0.01), grid_matrix(120, 0.01)})},
+    };
+    for (const auto& [name, A] : cases) {
+        for (const int ordering : {CHOLMOD_AMD, CHOLMOD_METIS}) {
+            cholmod_common common;
+            cholmod_start(&common);
+            common.supernodal = CHOLMOD_SUPERNODAL;
+            common.nmethods = 1;
+            common.method[0].ordering = ordering;
+            Eigen::SparseMatrix<double> lower = A.triangularView<Eigen::Lower>();
+            cholmod_sparse view{};
+            view.nrow = view.ncol = static_cast<size_t>(lower.rows());
+            view.nzmax = static_cast<size_t>(lower.nonZeros());
+            view.p = lower.outerIndexPtr();
+            view.i = lower.innerIndexPtr();
+            view.x = lower.valuePtr();
+            view.stype = -1;
+            view.itype = CHOLMOD_INT;
+            view.xtype = CHOLMOD_REAL;
+            view.dtype = CHOLMOD_DOUBLE;
+            view.sorted = view.packed = 1;
+            cholmod_factor* factor = cholmod_analyze(&view, &common);
+            ASSERT_NE(factor, nullptr);
+            const detail::SolvePlan plan = detail::plan_solve(*factor);
+
+            const auto* super = static_cast<const int*>(factor->super);
+            const auto* row_start = static_cast<const int*>(factor->pi);
+            const auto* rows = static_cast<const int*>(factor->s);
+            const int supernodes = static_cast<int>(factor->nsuper);
+            std::vector<int> owner(static_cast<size_t>(supernodes), -2), supernode_of(factor->n);
+            long work[3] = {0, 0, 0};
+            for (int part = 0; part < 3; ++part)
+                for (const int s : part < 2 ? plan.parts[part] : plan.top) {
+                    EXPECT_EQ(owner[s], -2) << "supernode " << s << " twice";
+                    owner[s] = part;
+                }
+            for (int s = 0; s < supernodes; ++s) {
+                ASSERT_NE(owner[s], -2) << name << ": supernode " << s << " in no part";
+                for (int c = super[s]; c < super[s + 1]; ++c) supernode_of[c] = s;
+                work[owner[s]] += static_cast<long>(super[s + 1] - super[s]) * (row_start[s + 1] - row_start[s]);
+            }
+            int top_columns = 0;
+            for (int s = 0; s < supernodes; ++s) {
+                const int columns = super[s + 1] - super[s];
+                if (row_start[s + 1] - row_start[s] > columns) {
+                    const int parent = supernode_of[rows[row_start[s] + columns]];
+                    EXPECT_TRUE(owner[parent] == owner[s] || owner[parent] == 2)
+                        << name << ": supernode " << s << " of part " << owner[s] << " has its parent in part "
+                        << owner[parent];
+                }
+                for (int c = super[s]; c < super[s + 1]; ++c)
+                    EXPECT_EQ(plan.top_slot[c], owner[s] == 2 ? top_columns++ : -1);
+            }
+            EXPECT_EQ(plan.top_columns, top_columns);
+            const double total = static_cast<double>(work[0] + work[1] + work[2]);
+            EXPECT_LT(std::abs(work[0] - work[1]), 0.05 * total) << name << ", ordering " << ordering;
+            EXPECT_LT(work[2], 0.15 * total) << name << ", ordering " << ordering;
+            cholmod_free_factor(&factor, &common);
+            cholmod_finish(&common);
+        }
+    }
+}
+
+// Two-thread solves against a simplicial reference, with either ordering, on one tree and on a
+// forest.
+TEST(Cholesky, TwoThreadSolvesMatchAReferenceFactorization) {
+    for (const auto& A : {grid_matrix(200, 0.01), block_diagonal({grid_matrix(150, 0.01), grid_matrix(90, 0.01)})}) {
+        const Eigen::MatrixXd b = Eigen::MatrixXd::Random(A.rows(), 5);
+        const Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> reference(A);
+        const Eigen::MatrixXd expected = reference.solve(b);
+        for (const auto ordering : {CholeskyOrdering::amd, CholeskyOrdering::metis}) {
+            const Eigen::MatrixXd x = CholeskySolver(A, {.ordering = ordering}).solve_columns(b);
+            EXPECT_LT((x - expected).norm(), 1e-10 * expected.norm());
+        }
+    }
 }
 
 TEST(Cholesky, RejectsMatricesThatAreNotPositiveDefinite) {
