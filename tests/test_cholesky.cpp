@@ -173,10 +173,27 @@ TEST(Cholesky, TwoThreadSolvePlanSplitsTheEliminationTreeEvenly) {
     }
 }
 
-// Two-thread solves against a simplicial reference, with either ordering, on one tree and on a
-// forest.
+// shift·I + the graph Laplacian of a path of n vertices: its elimination tree is a chain, which
+// no cut balances.
+Eigen::SparseMatrix<double> path_matrix(int n, double shift) {
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int i = 0; i < n; ++i) {
+        entries.emplace_back(i, i, shift + (i > 0) + (i + 1 < n));
+        if (i + 1 < n) {
+            entries.emplace_back(i, i + 1, -1.0);
+            entries.emplace_back(i + 1, i, -1.0);
+        }
+    }
+    Eigen::SparseMatrix<double> A(n, n);
+    A.setFromTriplets(entries.begin(), entries.end());
+    return A;
+}
+
+// Two-thread solves against a simplicial reference, with either ordering, on one tree, on a
+// forest and on a chain.
 TEST(Cholesky, TwoThreadSolvesMatchAReferenceFactorization) {
-    for (const auto& A : {grid_matrix(200, 0.01), block_diagonal({grid_matrix(150, 0.01), grid_matrix(90, 0.01)})}) {
+    for (const auto& A : {grid_matrix(200, 0.01), block_diagonal({grid_matrix(150, 0.01), grid_matrix(90, 0.01)}),
+                          path_matrix(400000, 0.01)}) {
         const Eigen::MatrixXd b = Eigen::MatrixXd::Random(A.rows(), 5);
         const Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> reference(A);
         const Eigen::MatrixXd expected = reference.solve(b);

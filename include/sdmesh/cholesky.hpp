@@ -65,7 +65,8 @@ public:
     [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
 
     /// Solves A X = B for all columns of B at once, four per pass over the factor (on a 500k-vertex
-    /// mesh four columns take 1.4× the time of one); throws as solve().
+    /// mesh four columns take 1.4× the time of one); throws as solve(). Large factors are solved on
+    /// two OpenMP threads (unless OMP_NUM_THREADS=1), with results independent of the thread count.
     [[nodiscard]] Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const;
 
     [[nodiscard]] int rows() const;
