@@ -298,7 +298,8 @@ SolvePlan plan_solve(const cholmod_factor& factor) {
     // The supernodal elimination tree: a supernode's parent holds the first row below its block.
     // Parents come after their children. Work is counted in factor entries.
     std::vector<int> supernode_of(static_cast<size_t>(n));
-    for (int s = 0; s < supernodes; ++s) std::fill(&supernode_of[f.super[s]], &supernode_of[0] + f.super[s + 1], s);
+    for (int s = 0; s < supernodes; ++s)
+        std::fill(supernode_of.begin() + f.super[s], supernode_of.begin() + f.super[s + 1], s);
     std::vector<int> parent(static_cast<size_t>(supernodes), -1), child_count(static_cast<size_t>(supernodes) + 1, 0);
     std::vector<long> work(static_cast<size_t>(supernodes)), subtree(static_cast<size_t>(supernodes));
     long total = 0;
@@ -322,7 +323,8 @@ SolvePlan plan_solve(const cholmod_factor& factor) {
     }
     // Children lists (compressed), ascending.
     for (int s = 0; s < supernodes; ++s) child_count[s + 1] += child_count[s];
-    std::vector<int> children(static_cast<size_t>(child_count[supernodes])), next(child_count.begin(), child_count.end() - 1);
+    std::vector<int> children(static_cast<size_t>(child_count[supernodes]));
+    std::vector<int> next(child_count.begin(), child_count.end() - 1);
     for (int s = 0; s < supernodes; ++s)
         if (parent[s] >= 0) children[next[parent[s]]++] = s;
 
@@ -356,12 +358,14 @@ SolvePlan plan_solve(const cholmod_factor& factor) {
         const int heaviest = frontier.front();
         frontier.erase(frontier.begin());
         top_work += work[heaviest];
-        frontier.insert(frontier.end(), &children[child_count[heaviest]], &children[0] + child_count[heaviest + 1]);
+        frontier.insert(frontier.end(), children.begin() + child_count[heaviest],
+                        children.begin() + child_count[heaviest + 1]);
     }
 
     // Owners, parents before children: a subtree root's part, else its parent's part, else top.
     std::vector<signed char> owner(static_cast<size_t>(supernodes), -1);
-    for (size_t i = 0; i < best_frontier.size(); ++i) owner[best_frontier[i]] = static_cast<signed char>(best_assignment[i] + 2);
+    for (size_t i = 0; i < best_frontier.size(); ++i)
+        owner[best_frontier[i]] = static_cast<signed char>(best_assignment[i] + 2);
     for (int s = supernodes - 1; s >= 0; --s) {
         if (owner[s] >= 2)
             owner[s] -= 2;
