@@ -1,8 +1,10 @@
 #include "block_lanczos.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -168,6 +170,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
     }
     LargestEigenpairs ritz;  // of the last convergence test
     Index m = 0, next_test = 0;
+    auto last_progress = std::chrono::steady_clock::now();
     for (Index step = 0; (step + 1) * b <= capacity; ++step) {
         m = (step + 1) * b;
         Matrix W = K.solve_columns(M * V.middleCols(step * b, b));
@@ -192,13 +195,22 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
         if (m >= tested && (step >= next_test || m + b > capacity)) {
             ritz = largest_eigenpairs(T.topLeftCorner(m, m), static_cast<int>(tested));
             double worst = 0;  // the largest residual over its tolerance
+            Index converged = 0;
             for (Index i = 0; i < tested; ++i) {
                 const Index col = tested - 1 - i;
                 const double theta = ritz.values[col];
                 const Eigen::VectorXd s = ritz.vectors.col(col).tail(b);
                 const double residual = std::sqrt(std::max(0.0, s.dot(G * s)));
                 const double tolerance = i < wanted ? options.tolerance : kMarginTolerance * options.tolerance;
-                worst = std::max(worst, residual / (tolerance * theta));  // θ > 0: K and M are positive definite
+                const double ratio = residual / (tolerance * theta);  // θ > 0: K and M are positive definite
+                worst = std::max(worst, ratio);
+                converged += ratio <= 1;
+            }
+            if (options.progress && std::chrono::steady_clock::now() - last_progress > std::chrono::seconds(1)) {
+                last_progress = std::chrono::steady_clock::now();
+                std::fprintf(stderr, "eigs: %d solves, %ld of %ld pairs converged (with %ld margin pairs)\n",
+                             result.solves, static_cast<long>(converged), static_cast<long>(tested),
+                             static_cast<long>(tested - wanted));
             }
             if (worst <= 1) {
                 result.converged = true;

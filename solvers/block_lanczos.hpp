@@ -28,6 +28,7 @@ struct BlockLanczosOptions {
     int block_size = 4;        ///< columns per block (capped at n / 3)
     int max_columns = 0;       ///< basis size limit (multiple of block_size after capping at n)
     double tolerance = 1e-10;  ///< Ritz residual relative to θ, as Spectra's tol
+    bool progress = false;     ///< a line on stderr about every second (at convergence tests)
 };
 
 struct BlockLanczosResult {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -129,13 +130,22 @@ Eigenpairs spectra_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, 
 }
 
 // The k smallest pairs by block Lanczos (block_lanczos.hpp), whose Ritz vectors are M-orthonormal
-// to rounding already; λ = σ + 1/θ is as accurate as a Rayleigh quotient (both err by the
-// square of the residual).
-Eigenpairs block_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, int basis, double tolerance,
+// to ~1e-12 already; λ = σ + 1/θ is as accurate as a Rayleigh quotient (both err by the square
+// of the residual).
+Eigenpairs block_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, int basis, const EigenOptions& options,
                             EigenReport& report) {
+    const auto start = std::chrono::steady_clock::now();
+    if (options.progress) std::fprintf(stderr, "eigs: factorizing L - sigma M (n = %ld)\n", static_cast<long>(L.rows()));
     const CholeskySolver factor(Sparse(L - report.sigma * M));
-    detail::BlockLanczosResult lanczos = detail::block_lanczos(
-        factor, M, {.wanted = k, .margin = nev - k, .max_columns = basis, .tolerance = tolerance});
+    if (options.progress)
+        std::fprintf(stderr, "eigs: factorized in %.1f s; block Lanczos for %d pairs\n",
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), k);
+    detail::BlockLanczosResult lanczos = detail::block_lanczos(factor, M,
+                                                               {.wanted = k,
+                                                                .margin = nev - k,
+                                                                .max_columns = basis,
+                                                                .tolerance = options.tolerance,
+                                                                .progress = options.progress});
     report.iterations = lanczos.steps;
     report.solves = lanczos.solves;
     report.status = lanczos.converged ? EigenStatus::converged : EigenStatus::not_converged;
@@ -219,12 +229,17 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
                                    std::to_string(M.diagonal().sum()) + "); pass sigma");
 
     EigenResult result;
-    Eigenpairs pairs = block ? block_eigenpairs(L, M, k, nev, basis, options.tolerance, report)
+    if (options.progress && !block)
+        std::fprintf(stderr, "eigs: Spectra's Lanczos for %d pairs (n = %d; no lines until it ends)\n", k, n);
+    Eigenpairs pairs = block ? block_eigenpairs(L, M, k, nev, basis, options, report)
                              : spectra_eigenpairs(L, M, k, nev, basis, options, report);
     result.values = std::move(pairs.values);
     measure_accuracy(L, M, result.values, pairs.vectors, report);
     result.vectors = restricted ? Eigen::MatrixXd(P.transpose() * pairs.vectors) : std::move(pairs.vectors);
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (options.progress)
+        std::fprintf(stderr, "eigs: %s, %d solves, %.1f s\n", to_string(report.status).data(), report.solves,
+                     report.seconds);
     result.report = report;
     return result;
 }

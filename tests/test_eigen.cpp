@@ -270,6 +270,21 @@ TEST_F(Cli, WritesTheLibrarysEigenpairs) {
         EXPECT_NE(report.find(key), std::string::npos) << key << "\n" << report;
 }
 
+// --progress reports on stderr (the factorization, the final status) and changes no result.
+TEST_F(Cli, ProgressGoesToStandardErrorAndChangesNothing) {
+    write_mesh(dir_ / "sphere.off", make_icosphere(3));
+    const std::string base = "eigs " + (dir_ / "sphere.off").string() + " -k 12 --out ";
+    ASSERT_EQ(run(base + (dir_ / "quiet").string()), 0) << read(dir_ / "err.txt");
+    EXPECT_EQ(read(dir_ / "err.txt"), "");
+    ASSERT_EQ(run(base + (dir_ / "loud").string() + " --progress"), 0) << read(dir_ / "err.txt");
+    const std::string err = read(dir_ / "err.txt");
+    for (const char* line : {"eigs: factorizing L - sigma M (n = 642)\n", "eigs: factorized in ",
+                             "; block Lanczos for 12 pairs\n", "eigs: converged, "})
+        EXPECT_NE(err.find(line), std::string::npos) << line << "\n" << err;
+    for (const char* file : {"eigenvalues.csv", "eigenvectors.bin"})
+        EXPECT_EQ(read(dir_ / "loud" / file), read(dir_ / "quiet" / file)) << file;
+}
+
 TEST_F(Cli, SolvesOnConvertedAndIntrinsicMeshes) {
     write_mesh(dir_ / "grid.obj", make_grid(8, 8, 1.0, 1.0, 1.7));  // sheared: not self-Delaunay
     for (const char* choice : {"--convert split", "--intrinsic"}) {

@@ -55,6 +55,9 @@ struct EigenOptions {
     /// and columns of the other vertices and the eigenvectors are 0 here. Empty: natural
     /// (Neumann) boundary.
     std::vector<int> dirichlet_vertices = {};
+    /// Print progress lines to stderr: when the factorization starts and ends, and (block
+    /// Lanczos) about every second, the solves so far and the pairs converged.
+    bool progress = false;
 };
 
 enum class EigenStatus {

@@ -298,8 +298,9 @@ Operators solver_operators(py::handle first, py::handle second, const std::optio
 
 py::object eigs_py(py::handle first, py::handle second, int k, const std::optional<std::string>& mass, bool intrinsic,
                    std::optional<double> sigma, double tolerance, int max_iterations, int basis_size,
-                   py::handle dirichlet, const std::string& solver, bool return_report) {
+                   py::handle dirichlet, const std::string& solver, bool progress, bool return_report) {
     EigenOptions options{.k = k, .tolerance = tolerance, .max_iterations = max_iterations, .basis_size = basis_size};
+    options.progress = progress;
     options.solver = parse_name(solver, "solver", {EigenSolver::block_lanczos, EigenSolver::spectra_lanczos});
     if (sigma) options.sigma = *sigma;
     if (!dirichlet.is_none()) options.dirichlet_vertices = indices_from_array(dirichlet, "dirichlet");
@@ -460,9 +461,10 @@ max_flips < 0: automatic budget.)");
           arg("mass") = py::none(), arg("intrinsic") = false, arg("sigma") = py::none(),
           arg("tolerance") = eigen_defaults.tolerance, arg("max_iterations") = eigen_defaults.max_iterations,
           arg("basis_size") = eigen_defaults.basis_size, arg("dirichlet") = py::none(), arg("solver") = "block",
-          arg("return_report") = false,
+          arg("progress") = eigen_defaults.progress, arg("return_report") = false,
           R"(eigs(V, F, k=10, *, mass=None, intrinsic=False, sigma=None, tolerance=1e-10,
-     max_iterations=1000, basis_size=0, dirichlet=None, solver="block", return_report=False)
+     max_iterations=1000, basis_size=0, dirichlet=None, solver="block", progress=False,
+     return_report=False)
      -> (evals, evecs[, report])
 eigs(L, M, k=10, ...)
 
@@ -470,7 +472,7 @@ The k smallest eigenpairs of L φ = λ M φ, from a mesh (cotan L and the `mass`
 "barycentric", on the intrinsic Delaunay triangulation if `intrinsic`) or from given sparse L, M.
 evals: (k,) ascending; evecs: (n, k), M-orthonormal. sigma: shift < 0 (None: automatic);
 dirichlet: vertices where φ = 0. solver: "block" (block Lanczos) or "spectra" (Spectra's
-Lanczos). report: the solver keys of `sdmesh eigs`'s report.json; when report["status"] is
+Lanczos). progress: lines on stderr (the factorization, then about every second). report: the solver keys of `sdmesh eigs`'s report.json; when report["status"] is
 "not_converged", spectra returns fewer than k pairs, block its best approximations.
 Raises InvalidArgumentError (k >= n, ...), NumericalError (M not positive definite).)");
 

@@ -140,6 +140,17 @@ def test_eigs_equal_the_cli(cli, tmp_path, converted_bunny, options):
             sdmesh.eigs(V, F, 12, solver="arpack")
 
 
+def test_eigs_progress_goes_to_stderr_as_in_the_cli(capfd, converted_bunny):
+    V, F = sdmesh.read_mesh(converted_bunny)
+    quiet = sdmesh.eigs(V, F, 12)
+    capfd.readouterr()
+    loud = sdmesh.eigs(V, F, 12, progress=True)
+    err = capfd.readouterr().err
+    assert "eigs: factorizing L - sigma M (n = " in err and "eigs: converged, " in err
+    np.testing.assert_array_equal(loud[0], quiet[0])
+    np.testing.assert_array_equal(loud[1], quiet[1])
+
+
 def test_geodesic_equals_the_cli(cli, tmp_path, converted_bunny):
     done = cli("geodesic", converted_bunny, "--source", "0,17", "--out", tmp_path / "d.ply", "--mass", "mixed")
     expected = read_binary_ply_fields(tmp_path / "d.ply", ["distance"])["distance"]

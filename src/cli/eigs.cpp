@@ -48,12 +48,14 @@ std::string eigenvectors_bin(const Eigen::MatrixXd& vectors) {
 int run_eigs(Args& args) {
     const auto usage =
         "sdmesh eigs MESH -k K --out DIR [--mass barycentric|circumcentric|mixed|galerkin] "
-        "[--convert split|hybrid|flip | --intrinsic] [--sigma S] [--tolerance T] [--solver block|spectra]";
+        "[--convert split|hybrid|flip | --intrinsic] [--sigma S] [--tolerance T] [--solver block|spectra] "
+        "[--progress]";
     const SolverChoices choices = parse_solver_choices(args);
     const auto k = args.number("-k");
     EigenOptions options;
     options.sigma = args.number("--sigma").value_or(options.sigma);
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);
+    options.progress = args.flag("--progress");
     options.solver = args.choice("--solver",
                                  {std::pair{to_string(EigenSolver::block_lanczos).data(), EigenSolver::block_lanczos},
                                   std::pair{to_string(EigenSolver::spectra_lanczos).data(),

@@ -42,7 +42,7 @@ Commands:
                                   the same files for the intrinsic Delaunay triangulation (edge
                                   flips, vertices kept); report.json adds flips, proper, status
   eigs MESH -k K --out DIR [--mass ...] [--convert split|hybrid|flip | --intrinsic] [--sigma S]
-          [--tolerance T] [--solver block|spectra]
+          [--tolerance T] [--solver block|spectra] [--progress]
                                   the K smallest eigenpairs of L φ = λ M φ: eigenvalues.csv,
                                   eigenvectors.bin (int32 n, int32 k, k columns of n doubles,
                                   little endian) and report.json in DIR
