@@ -83,22 +83,25 @@ TEST(SphereSpectrum, EigenvaluesAreLTimesLPlusOneAndConvergeUnderRefinement) {
 
 constexpr EigenSolver kBothSolvers[] = {EigenSolver::block_lanczos, EigenSolver::spectra_lanczos};
 
+// Icosphere 1 (42 vertices) lets block Lanczos's basis fill the whole space, where its blocks end
+// up nearly inside the basis.
 TEST(SphereSpectrum, AgreesWithADenseSolve) {
     for (EigenSolver solver : kBothSolvers)
-        for (MassType mass : {MassType::barycentric, MassType::galerkin}) {
-            const Triangulation t = Triangulation::from_mesh(make_icosphere(2));
-            const Sparse L = cotan_laplacian(t), M = mass_matrix(t, mass);
-            const EigenResult r = smallest_eigenpairs(L, M, {.k = 16, .solver = solver});
-            const std::string what = std::string(to_string(solver)) + ", icosphere 2";
-            expect_accurate(r, what);
-            EXPECT_EQ(r.report.solver, solver);
-            const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(
-                Eigen::MatrixXd(L), Eigen::MatrixXd(M), Eigen::EigenvaluesOnly);
-            // Both are accurate to rounding on the scale of the largest eigenvalue asked for.
-            const double tolerance = 1e-9 * dense.eigenvalues()[15];
-            for (int i = 0; i < 16; ++i)
-                EXPECT_NEAR(r.values[i], dense.eigenvalues()[i], tolerance) << what << ", index " << i;
-        }
+        for (MassType mass : {MassType::barycentric, MassType::galerkin})
+            for (const auto [level, k] : {std::pair{1, 9}, std::pair{2, 16}}) {
+                const Triangulation t = Triangulation::from_mesh(make_icosphere(level));
+                const Sparse L = cotan_laplacian(t), M = mass_matrix(t, mass);
+                const EigenResult r = smallest_eigenpairs(L, M, {.k = k, .solver = solver});
+                const std::string what = std::string(to_string(solver)) + ", icosphere " + std::to_string(level);
+                expect_accurate(r, what);
+                EXPECT_EQ(r.report.solver, solver);
+                const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(
+                    Eigen::MatrixXd(L), Eigen::MatrixXd(M), Eigen::EigenvaluesOnly);
+                // Both are accurate to rounding on the scale of the largest eigenvalue asked for.
+                const double tolerance = 1e-9 * dense.eigenvalues()[k - 1];
+                for (int i = 0; i < k; ++i)
+                    EXPECT_NEAR(r.values[i], dense.eigenvalues()[i], tolerance) << what << ", index " << i;
+            }
 }
 
 // The two Lanczos variants on a corpus-sized problem (bunny, 2.5k vertices), k = 60: the same
