@@ -25,6 +25,11 @@ using Index = Eigen::Index;
 // orthogonalization is numerically inside the basis already (an invariant subspace was found);
 // it is replaced by a fresh random direction.
 constexpr double kLostDirection = 1e-10;
+// A direction that the projections shortened by more than this keeps components along the basis
+// of ε divided by it, which its normalization brings to full size: on the icosahedron (12
+// vertices, whose block Krylov space is invariant at dimension 11), a direction shortened ~1e8×
+// left ΦᵀMΦ − I at 8.6e-8. Such blocks get a third pass against the basis.
+constexpr double kReprojectBelow = 1e-4;
 // A block whose squared condition number is below this is orthonormal to ~100 ε after one SVQB.
 constexpr double kRepeatCondition = 100;
 // The margin pairs' tolerance, relative to the wanted pairs' (see block_lanczos.hpp): 100 cut
@@ -124,13 +129,19 @@ Matrix gram(const Matrix& W, const Sparse& M) {
 // scaling). One pass loses orthogonality in proportion to the square of W's condition number, so
 // a second pass follows when that square exceeds kRepeatCondition. Directions of norm below
 // kLostDirection · `scale` are dropped (their rows of R are zero) and replaced by random ones
-// orthogonalized against V. W is overwritten by Q; returns R.
+// orthogonalized against V; those below kReprojectBelow · `scale` are projected against V once
+// more first. W is overwritten by Q; returns R.
 Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix& W, const Matrix& G, double scale,
                       std::uint64_t seed) {
     const Index b = W.cols();
-    const Eigen::SelfAdjointEigenSolver<Matrix> first(G);
-    const Eigen::VectorXd d = first.eigenvalues().cwiseMax(0.0);
+    Eigen::SelfAdjointEigenSolver<Matrix> first(G);
     const double lost_below = kLostDirection * kLostDirection * scale * scale;
+    const double reproject_below = kReprojectBelow * kReprojectBelow * scale * scale;
+    if ((first.eigenvalues().array() > lost_below && first.eigenvalues().array() < reproject_below).any()) {
+        project_out(V, M, W);
+        first.compute(gram(W, M));
+    }
+    const Eigen::VectorXd d = first.eigenvalues().cwiseMax(0.0);
     Matrix R = Matrix::Zero(b, b), scaled = Matrix::Zero(b, b);
     Index lost = 0;
     for (Index i = 0; i < b; ++i) {
