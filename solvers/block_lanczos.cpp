@@ -88,6 +88,11 @@ Matrix project_out(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix& W
     return C;
 }
 
+// The M-norm of W's shortest column, given MW = M W.
+double shortest_norm(const Matrix& W, const Matrix& MW) {
+    return std::sqrt(W.cwiseProduct(MW).colwise().sum().minCoeff());
+}
+
 // The second pass over the whole basis V, whose last `local` columns the first pass covered.
 // Along the older columns, the coefficients Vᵀ M W measure how far the basis has lost
 // orthogonality since the last correction; it grows about a hundredfold per step. When they are
@@ -101,8 +106,7 @@ Matrix project_out_measured(const Eigen::Ref<const Matrix>& V, Index local, cons
     Matrix C(m, W.cols());
     const Matrix MW = M * W;
     multiply(true, 1.0, V, MW, 0.0, C);
-    const double shortest = std::sqrt(W.cwiseProduct(MW).colwise().sum().minCoeff());
-    loss = older > 0 ? C.topRows(older).cwiseAbs().maxCoeff() / shortest : 0.0;
+    loss = older > 0 ? C.topRows(older).cwiseAbs().maxCoeff() / shortest_norm(W, MW) : 0.0;
     if (loss <= threshold) {
         C.topRows(older).setZero();
         multiply(false, -1.0, V.rightCols(local), C.bottomRows(local), 1.0, W);
@@ -110,12 +114,6 @@ Matrix project_out_measured(const Eigen::Ref<const Matrix>& V, Index local, cons
         multiply(false, -1.0, V, C, 1.0, W);
     }
     return C;
-}
-
-// The M-norm of W's shortest column.
-double shortest_norm(const Matrix& W, const Sparse& M) {
-    const Matrix MW = M * W;
-    return std::sqrt(W.cwiseProduct(MW).colwise().sum().minCoeff());
 }
 
 Matrix gram(const Matrix& W, const Sparse& M) {
@@ -225,7 +223,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
         // first pass took most of the block (it lies nearly in the basis), nor when the basis can
         // fill much of the space: on a 42-vertex sphere, skipping made the solver fail.
         Matrix H = Matrix::Zero(m, b);
-        if (may_skip && scale <= kMaxShrinkWhenSkipping * shortest_norm(W, M)) {
+        if (may_skip && scale <= kMaxShrinkWhenSkipping * shortest_norm(W, M * W)) {
             H.bottomRows(local) = project_out(V.middleCols(m - local, local), M, W);
             may_skip = false;
         } else {
