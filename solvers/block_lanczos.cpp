@@ -53,11 +53,24 @@ constexpr double kMaxShrinkWhenSkipping = 100;
 constexpr Index kMinRowsPerColumnWhenSkipping = 8;
 
 // Each convergence test costs an eigendecomposition of T, O(m³) (at k = 200 on nefertiti, a
-// third of the time when done at every step). Far from convergence, the next test waits one step
-// per this many orders of magnitude that the worst residual lies above its tolerance (residuals
-// fell about tenfold per step near the end on koala), and at most this many steps.
+// third of the time when done at every step). After the first test, the next one waits one step
+// per this many orders of magnitude that the worst residual lies above its tolerance; after two,
+// half the steps that the residual's last rate of decrease needs to reach it (the rate grows as
+// pairs converge, 2–4× per step near the end on nefertiti and koala, so half leaves room for it).
+// At most this many steps apart.
 constexpr double kOrdersPerSkippedTest = 3;
+constexpr double kFractionOfPredictedSteps = 0.5;
 constexpr Eigen::Index kMaxStepsBetweenTests = 4;
+
+// The steps until the next convergence test, from the worst residual over its tolerance now and
+// at the previous test (`previous` ≤ 0: none), `elapsed` steps ago.
+Eigen::Index steps_to_next_test(double worst, double previous, Eigen::Index elapsed) {
+    const double orders = std::log10(worst);
+    double wait = orders / kOrdersPerSkippedTest;
+    if (previous > worst)
+        wait = kFractionOfPredictedSteps * orders * static_cast<double>(elapsed) / std::log10(previous / worst);
+    return std::clamp<Eigen::Index>(static_cast<Eigen::Index>(wait), 1, kMaxStepsBetweenTests);
+}
 
 // Deterministic pseudo-random columns in [-1, 1) (splitmix64), the same on every platform.
 Matrix random_columns(Index n, Index b, std::uint64_t seed) {
@@ -197,7 +210,8 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
         V.leftCols(b) = start;
     }
     LargestEigenpairs ritz;  // of the last convergence test
-    Index m = 0, next_test = 0;
+    Index m = 0, next_test = 0, previous_test = 0;
+    double previous_worst = 0;  // of the previous convergence test; 0: none yet
     const bool skipping_allowed = capacity * kMinRowsPerColumnWhenSkipping <= n;
     bool may_skip = false;  // whether this step may leave out the whole-basis pass
     auto last_progress = std::chrono::steady_clock::now();
@@ -262,8 +276,9 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
                 result.converged = true;
                 break;
             }
-            next_test = step + std::clamp<Index>(static_cast<Index>(std::log10(worst) / kOrdersPerSkippedTest), 1,
-                                                 kMaxStepsBetweenTests);
+            next_test = step + steps_to_next_test(worst, previous_worst, step - previous_test);
+            previous_worst = worst;
+            previous_test = step;
         }
         if (m + b > capacity) break;
         const Matrix R = orthonormalize(V.leftCols(m), M, W, G, scale, 3 + static_cast<std::uint64_t>(step));
