@@ -19,7 +19,7 @@ void dsyevd_(const char* jobz, const char* uplo, const int* n, double* a, const 
 
 namespace sdmesh::detail {
 
-// CHOLMOD's supernodal kernels and block Lanczos's products call BLAS, which (OpenBLAS's OpenMP
+// The factorization's large updates and block Lanczos's products call BLAS, which (OpenBLAS's OpenMP
 // build, what setup installs) runs each call on all OpenMP threads. On the 2-core VMs measured
 // that never made a factorization or solve faster, and with libgomp's default spinning it made
 // the igea geodesic precomputation 2.5× slower (21.8 s against 8.5 s). One thread also makes the factors

@@ -10,14 +10,14 @@
 #include "sdmesh/error.hpp"
 
 #include "prefault.hpp"
-#include "blas.hpp"
+#include "supernodal_factor.hpp"
 #include "supernodal_solve.hpp"
 
 namespace sdmesh {
 namespace {
 
-// CHOLMOD allocates the factor afresh at each factorization (~250 MB for 500k mesh vertices) and
-// then writes all of it; on a virtual machine taking those pages one fault at a time cost about
+// CHOLMOD allocates the factor's values (~250 MB for 500k mesh vertices), which the factorization
+// then writes in full; on a virtual machine taking those pages one fault at a time cost about
 // 1 s per factorization. Only replaces the standard malloc, never a user's own allocator.
 void* prefaulted_malloc(size_t bytes) {
     void* block = std::malloc(bytes);
@@ -37,9 +37,9 @@ void use_prefaulted_malloc() {
 struct CholeskySolver::Impl {
     cholmod_common common{};
     cholmod_factor* factor = nullptr;
-    detail::SolvePlan solve_plan;  // of the analysed structure
+    detail::SolvePlan solve_plan;    // of the analysed structure
+    detail::FactorPlan factor_plan;  // of the analysed structure and pattern
     int size = 0;
-    long long pattern_nonzeros = 0;
     bool factorized = false;
 
     Impl() {
@@ -130,27 +130,20 @@ void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A, const Cholesk
     if (!m.factor) throw NumericalError("Cholesky: symbolic analysis failed (CHOLMOD status " +
                                         std::to_string(m.common.status) + ")");
     m.solve_plan = detail::plan_solve(*m.factor);
+    m.factor_plan = detail::plan_factor(*m.factor, m.solve_plan, A);
     m.size = static_cast<int>(A.rows());
-    m.pattern_nonzeros = A.nonZeros();
     m.factorized = false;
 }
 
 void CholeskySolver::factorize(const Eigen::SparseMatrix<double>& A) {
     Impl& m = *impl_;
     if (!m.factor) throw InvalidArgumentError("Cholesky: factorize before analyze");
-    if (A.rows() != m.size || A.cols() != m.size || A.nonZeros() != m.pattern_nonzeros || !A.isCompressed())
+    if (A.rows() != m.size || A.cols() != m.size || !A.isCompressed())
         throw InvalidArgumentError("Cholesky: the matrix does not have the analysed pattern");
-    cholmod_sparse a = Impl::view(A);
     m.factorized = false;
-    {
-        const detail::SerialBlas serial;
-        cholmod_factorize(&a, m.factor, &m.common);
-    }
-    if (m.common.status == CHOLMOD_NOT_POSDEF)
-        throw NumericalError("Cholesky: the matrix is not positive definite (column " +
-                             std::to_string(m.factor->minor) + ")");
-    if (m.common.status != CHOLMOD_OK)
-        throw NumericalError("Cholesky: factorization failed (CHOLMOD status " + std::to_string(m.common.status) + ")");
+    const int failed = detail::factorize_supernodal(*m.factor, m.solve_plan, m.factor_plan, A, m.common);
+    if (failed >= 0)
+        throw NumericalError("Cholesky: the matrix is not positive definite (column " + std::to_string(failed) + ")");
     m.factorized = true;
 }
 

@@ -110,36 +110,16 @@ template <typename Row>
     }
 }
 
-// The factor's supernodes. Each supernode's block is `height` x `columns`, column-major: a dense
-// lower triangle on top, and below it the rows listed after the supernode's own columns, which
-// are scattered over y; `below` holds those rows, gathered, so that every column of the block
-// reads them from one place.
-struct Supernodes {
-    const int* super;
-    const int* row_start;
-    const int* value_start;
-    const int* rows;
-    const double* values;
-
-    explicit Supernodes(const cholmod_factor& factor)
-        : super(static_cast<const int*>(factor.super)),
-          row_start(static_cast<const int*>(factor.pi)),
-          value_start(static_cast<const int*>(factor.px)),
-          rows(static_cast<const int*>(factor.s)),
-          values(static_cast<const double*>(factor.x)) {}
-};
-
 // L z = y on the given supernodes, ascending: forward substitution on each triangle, then the
 // rows below get their updates. With `top_updates`, the updates of the plan's top rows are added
 // there instead (y −= top_updates follows).
 template <int R>
-[[gnu::always_inline]] inline void forward(const Supernodes& f, const std::vector<int>& supernodes,
+[[gnu::always_inline]] inline void forward(const SupernodalLayout& f, const std::vector<int>& supernodes,
                                            typename Lanes<R>::type* y, typename Lanes<R>::type* below,
                                            typename Lanes<R>::type* top_updates, const int* top_slot) {
     using Row = typename Lanes<R>::type;
     for (const int s : supernodes) {
-        const int first = f.super[s], columns = f.super[s + 1] - first;
-        const int height = f.row_start[s + 1] - f.row_start[s], under = height - columns;
+        const int first = f.super[s], columns = f.columns(s), height = f.height(s), under = height - columns;
         const int* row = f.rows + f.row_start[s] + columns;
         const double* block = f.values + f.value_start[s];
         Row* z = y + first;
@@ -167,13 +147,12 @@ template <int R>
 // Lᵀ w = z on the given supernodes, descending: the rows below (solved already) first, then
 // backward substitution on each triangle.
 template <int R>
-[[gnu::always_inline]] inline void backward(const Supernodes& f, const std::vector<int>& supernodes,
+[[gnu::always_inline]] inline void backward(const SupernodalLayout& f, const std::vector<int>& supernodes,
                                             typename Lanes<R>::type* y, typename Lanes<R>::type* below) {
     using Row = typename Lanes<R>::type;
     for (auto s_it = supernodes.rbegin(); s_it != supernodes.rend(); ++s_it) {
         const int s = *s_it;
-        const int first = f.super[s], columns = f.super[s + 1] - first;
-        const int height = f.row_start[s + 1] - f.row_start[s], under = height - columns;
+        const int first = f.super[s], columns = f.columns(s), height = f.height(s), under = height - columns;
         const int* row = f.rows + f.row_start[s] + columns;
         const double* block = f.values + f.value_start[s];
         Row* w = y + first;
@@ -190,7 +169,7 @@ template <int R>
 
 // One sweep over a list of supernodes, forward or backward.
 template <int R>
-[[gnu::always_inline]] inline void sweep(bool is_forward, const Supernodes& f, const std::vector<int>& supernodes,
+[[gnu::always_inline]] inline void sweep(bool is_forward, const SupernodalLayout& f, const std::vector<int>& supernodes,
                                          typename Lanes<R>::type* y, typename Lanes<R>::type* below,
                                          typename Lanes<R>::type* top_updates, const int* top_slot) {
     if (is_forward)
@@ -201,7 +180,7 @@ template <int R>
 
 #if defined(__x86_64__) || defined(__i386__)
 template <int R>
-[[gnu::target("avx2,fma")]] void sweep_avx2(bool is_forward, const Supernodes& f, const std::vector<int>& supernodes,
+[[gnu::target("avx2,fma")]] void sweep_avx2(bool is_forward, const SupernodalLayout& f, const std::vector<int>& supernodes,
                                             typename Lanes<R>::type* y, typename Lanes<R>::type* below,
                                             typename Lanes<R>::type* top_updates, const int* top_slot) {
     sweep<R>(is_forward, f, supernodes, y, below, top_updates, top_slot);
@@ -230,7 +209,7 @@ auto zeroed_rows(size_t n) {
 }
 
 template <int R>
-void run_sweep(bool is_forward, const Supernodes& f, const std::vector<int>& supernodes, typename Lanes<R>::type* y,
+void run_sweep(bool is_forward, const SupernodalLayout& f, const std::vector<int>& supernodes, typename Lanes<R>::type* y,
                typename Lanes<R>::type* below, typename Lanes<R>::type* top_updates = nullptr,
                const int* top_slot = nullptr) {
 #if defined(__x86_64__) || defined(__i386__)
@@ -244,7 +223,7 @@ template <int R>
 void solve_group(const cholmod_factor& factor, const SolvePlan& plan, const Eigen::Ref<const Eigen::MatrixXd>& B,
                  Eigen::Ref<Eigen::MatrixXd> X, Eigen::Index first, int count) {
     using Row = typename Lanes<R>::type;
-    const Supernodes f(factor);
+    const SupernodalLayout f(factor);
     const auto n = static_cast<Eigen::Index>(factor.n);
     const auto* perm = static_cast<const int*>(factor.Perm);
     const auto y = zeroed_rows<Row>(static_cast<size_t>(n));
@@ -288,23 +267,29 @@ constexpr int kMaxCuts = 256;
 
 }  // namespace
 
+std::vector<int> supernode_of_columns(const cholmod_factor& factor) {
+    const SupernodalLayout f(factor);
+    std::vector<int> supernode_of(factor.n);
+    for (int s = 0; s < static_cast<int>(factor.nsuper); ++s)
+        std::fill(supernode_of.begin() + f.super[s], supernode_of.begin() + f.super[s + 1], s);
+    return supernode_of;
+}
+
 SolvePlan plan_solve(const cholmod_factor& factor) {
     if (!factor.is_super) throw NumericalError("Cholesky: the factor is not supernodal");
-    const Supernodes f(factor);
+    const SupernodalLayout f(factor);
     const auto supernodes = static_cast<int>(factor.nsuper);
     const auto n = static_cast<int>(factor.n);
     SolvePlan plan;
 
     // The supernodal elimination tree: a supernode's parent holds the first row below its block.
     // Parents come after their children. Work is counted in factor entries.
-    std::vector<int> supernode_of(static_cast<size_t>(n));
-    for (int s = 0; s < supernodes; ++s)
-        std::fill(supernode_of.begin() + f.super[s], supernode_of.begin() + f.super[s + 1], s);
+    const std::vector<int> supernode_of = supernode_of_columns(factor);
     std::vector<int> parent(static_cast<size_t>(supernodes), -1), child_count(static_cast<size_t>(supernodes) + 1, 0);
     std::vector<long> work(static_cast<size_t>(supernodes)), subtree(static_cast<size_t>(supernodes));
     long total = 0;
     for (int s = 0; s < supernodes; ++s) {
-        const int columns = f.super[s + 1] - f.super[s], height = f.row_start[s + 1] - f.row_start[s];
+        const int columns = f.columns(s), height = f.height(s);
         if (height > columns) parent[s] = supernode_of[f.rows[f.row_start[s] + columns]];
         work[s] = static_cast<long>(columns) * height;
         total += work[s];

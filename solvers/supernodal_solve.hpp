@@ -8,6 +8,29 @@
 
 namespace sdmesh::detail {
 
+// A supernodal factor's arrays (int indices). Supernode s holds columns [super[s], super[s + 1])
+// and the rows rows[row_start[s] ..], its own columns first; its values are a column-major block
+// of height x columns at values + value_start[s]: a dense lower triangle on top, then the rows below.
+struct SupernodalLayout {
+    const int* super;
+    const int* row_start;
+    const int* value_start;
+    const int* rows;
+    double* values;
+
+    explicit SupernodalLayout(const cholmod_factor& factor)
+        : super(static_cast<const int*>(factor.super)),
+          row_start(static_cast<const int*>(factor.pi)),
+          value_start(static_cast<const int*>(factor.px)),
+          rows(static_cast<const int*>(factor.s)),
+          values(static_cast<double*>(factor.x)) {}
+    [[nodiscard]] int columns(int s) const { return super[s + 1] - super[s]; }
+    [[nodiscard]] int height(int s) const { return row_start[s + 1] - row_start[s]; }
+};
+
+// The supernode of each column of the factor.
+[[nodiscard]] std::vector<int> supernode_of_columns(const cholmod_factor& factor);
+
 // How a solve shares a factor's supernodes between two threads. The supernodal elimination tree
 // is cut below its top into whole subtrees, dealt to two parts of about equal factor entries;
 // the supernodes above the cut (the top separators, with nested dissection) stay with one

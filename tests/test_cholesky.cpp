@@ -1,5 +1,6 @@
 // The CHOLMOD wrapper: solves, refactorization on a fixed pattern, typed errors.
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -13,7 +14,8 @@
 #include "sdmesh/cholesky.hpp"
 #include "sdmesh/error.hpp"
 
-#include "supernodal_solve.hpp"  // white-box: the two-thread solve plan
+#include "supernodal_factor.hpp"  // white-box: the factorization against CHOLMOD's
+#include "supernodal_solve.hpp"   // white-box: the two-thread solve plan
 
 namespace sdmesh {
 namespace {
@@ -104,6 +106,22 @@ Eigen::SparseMatrix<double> block_diagonal(const std::vector<Eigen::SparseMatrix
     return A;
 }
 
+// CHOLMOD's view of a lower triangle (no copy).
+cholmod_sparse lower_view(Eigen::SparseMatrix<double>& lower) {
+    cholmod_sparse view{};
+    view.nrow = view.ncol = static_cast<size_t>(lower.rows());
+    view.nzmax = static_cast<size_t>(lower.nonZeros());
+    view.p = lower.outerIndexPtr();
+    view.i = lower.innerIndexPtr();
+    view.x = lower.valuePtr();
+    view.stype = -1;
+    view.itype = CHOLMOD_INT;
+    view.xtype = CHOLMOD_REAL;
+    view.dtype = CHOLMOD_DOUBLE;
+    view.sorted = view.packed = 1;
+    return view;
+}
+
 // The plan of a two-thread solve partitions the supernodes into two parts of whole subtrees and
 // a top closed towards the root, with the parts' work (factor entries) balanced, for one tree
 // (nested dissection, AMD) and for a forest.
@@ -120,17 +138,7 @@ TEST(Cholesky, TwoThreadSolvePlanSplitsTheEliminationTreeEvenly) {
             common.nmethods = 1;
             common.method[0].ordering = ordering;
             Eigen::SparseMatrix<double> lower = A.triangularView<Eigen::Lower>();
-            cholmod_sparse view{};
-            view.nrow = view.ncol = static_cast<size_t>(lower.rows());
-            view.nzmax = static_cast<size_t>(lower.nonZeros());
-            view.p = lower.outerIndexPtr();
-            view.i = lower.innerIndexPtr();
-            view.x = lower.valuePtr();
-            view.stype = -1;
-            view.itype = CHOLMOD_INT;
-            view.xtype = CHOLMOD_REAL;
-            view.dtype = CHOLMOD_DOUBLE;
-            view.sorted = view.packed = 1;
+            cholmod_sparse view = lower_view(lower);
             cholmod_factor* factor = cholmod_analyze(&view, &common);
             ASSERT_NE(factor, nullptr);
             const detail::SolvePlan plan = detail::plan_solve(*factor);
@@ -189,6 +197,56 @@ Eigen::SparseMatrix<double> path_matrix(int n, double shift) {
     return A;
 }
 
+// The factor against CHOLMOD's own numeric factorization on the same symbolic analysis, entry by
+// entry: small supernodes (inline kernels) and the nested-dissection separators of a 200 x 200
+// grid (LAPACK and BLAS), on one tree and on a forest, on one thread and two. The factors must
+// agree to rounding and be bit-identical for one and two threads.
+TEST(Cholesky, SupernodalFactorMatchesCholmods) {
+    const std::vector<std::pair<std::string, Eigen::SparseMatrix<double>>> cases = {
+        {"grid 200", grid_matrix(200, 0.01)},
+        {"three grids", block_diagonal({grid_matrix(150, 0.01), grid_matrix(90, 0.01), grid_matrix(120, 0.01)})},
+    };
+    const int initial = omp_get_max_threads();
+    for (const auto& [name, A] : cases) {
+        for (const int ordering : {CHOLMOD_AMD, CHOLMOD_METIS}) {
+            cholmod_common common;
+            cholmod_start(&common);
+            common.supernodal = CHOLMOD_SUPERNODAL;
+            common.nmethods = 1;
+            common.method[0].ordering = ordering;
+            Eigen::SparseMatrix<double> lower = A.triangularView<Eigen::Lower>();
+            cholmod_sparse view = lower_view(lower);
+            cholmod_factor* reference = cholmod_analyze(&view, &common);
+            ASSERT_NE(reference, nullptr);
+            const detail::SolvePlan solve_plan = detail::plan_solve(*reference);
+            ASSERT_FALSE(solve_plan.parts[0].empty()) << name << ": too small for two threads";
+            const detail::FactorPlan plan = detail::plan_factor(*reference, solve_plan, lower);
+            std::vector<double> ours[2];
+            for (const int threads : {1, 2}) {
+                cholmod_factor* factor = cholmod_copy_factor(reference, &common);
+                omp_set_num_threads(threads);
+                ASSERT_EQ(detail::factorize_supernodal(*factor, solve_plan, plan, lower, common), -1) << name;
+                const auto* x = static_cast<const double*>(factor->x);
+                ours[threads - 1].assign(x, x + factor->xsize);
+                cholmod_free_factor(&factor, &common);
+            }
+            ASSERT_TRUE(cholmod_factorize(&view, reference, &common));  // its BLAS on one thread: faster here
+            omp_set_num_threads(initial);
+            const auto* expected = static_cast<const double*>(reference->x);
+            ASSERT_EQ(ours[0].size(), reference->xsize);
+            double largest = 0, error = 0;
+            for (size_t k = 0; k < ours[0].size(); ++k) {
+                largest = std::max(largest, std::abs(expected[k]));
+                error = std::max(error, std::abs(ours[0][k] - expected[k]));
+            }
+            EXPECT_LT(error, 1e-13 * largest) << name << ", ordering " << ordering;
+            EXPECT_TRUE(ours[0] == ours[1]) << name << ", ordering " << ordering << ": depends on the thread count";
+            cholmod_free_factor(&reference, &common);
+            cholmod_finish(&common);
+        }
+    }
+}
+
 // Two-thread solves against a simplicial reference, with either ordering, on one tree, on a
 // forest and on a chain.
 TEST(Cholesky, TwoThreadSolvesMatchAReferenceFactorization) {
@@ -206,6 +264,8 @@ TEST(Cholesky, TwoThreadSolvesMatchAReferenceFactorization) {
 
 TEST(Cholesky, RejectsMatricesThatAreNotPositiveDefinite) {
     EXPECT_THROW(CholeskySolver(grid_matrix(10, -0.5)), NumericalError);
+    EXPECT_THROW(CholeskySolver(grid_matrix(200, -0.5)), NumericalError);  // in the two-thread parts
+    EXPECT_THROW(CholeskySolver(grid_matrix(200, 0.0)), NumericalError);   // singular: the last pivot is 0
     CholeskySolver solver(grid_matrix(10, 1.0));
     EXPECT_THROW(solver.factorize(grid_matrix(10, -0.5)), NumericalError);
     EXPECT_THROW((void)solver.solve(Eigen::VectorXd::Ones(100)), InvalidArgumentError);  // factor is gone
@@ -218,6 +278,13 @@ TEST(Cholesky, RejectsMisuse) {
     EXPECT_THROW(solver.analyze(Eigen::SparseMatrix<double>(3, 4)), InvalidArgumentError);
     solver.analyze(grid_matrix(4, 1.0));
     EXPECT_THROW(solver.factorize(grid_matrix(5, 1.0)), InvalidArgumentError);
+    // As many entries as the analysed matrix, in other places: (0, 5) and (5, 0) for (0, 1) and (1, 0).
+    Eigen::SparseMatrix<double> moved = grid_matrix(4, 1.0);
+    moved.prune([](Eigen::Index row, Eigen::Index column, double) { return row + column != 1; });
+    moved.insert(0, 5) = moved.insert(5, 0) = -0.5;
+    moved.makeCompressed();
+    ASSERT_EQ(moved.nonZeros(), grid_matrix(4, 1.0).nonZeros());
+    EXPECT_THROW(solver.factorize(moved), InvalidArgumentError);
     solver.factorize(grid_matrix(4, 1.0));
     EXPECT_THROW((void)solver.solve(Eigen::VectorXd::Ones(15)), InvalidArgumentError);
 }

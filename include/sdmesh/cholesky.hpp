@@ -1,6 +1,6 @@
 #pragma once
-// Sparse Cholesky factorization of a symmetric positive definite matrix (CHOLMOD, supernodal,
-// fill-reducing ordering), kept for repeated solves. The symbolic analysis depends only on the
+// Sparse Cholesky factorization of a symmetric positive definite matrix (supernodal, with a
+// fill-reducing ordering and symbolic analysis from CHOLMOD), kept for repeated solves. The symbolic analysis depends only on the
 // sparsity pattern, so matrices that share a pattern (M + tL for several t) are refactorized
 // without analysing again. CHOLMOD stays behind this header (target sdmesh::solvers).
 //
@@ -55,8 +55,9 @@ public:
     /// \throws NumericalError the analysis fails (e.g. METIS asked for but not in CHOLMOD).
     void analyze(const Eigen::SparseMatrix<double>& A, const CholeskyOptions& options = {});
 
-    /// Numeric factorization of A, whose pattern must be the analysed one.
-    /// \throws InvalidArgumentError nothing analysed yet, or a different size or pattern size.
+    /// Numeric factorization of A, whose pattern must be the analysed one. Large factors are
+    /// computed on two OpenMP threads (unless OMP_NUM_THREADS=1), the same for any thread count.
+    /// \throws InvalidArgumentError nothing analysed yet, or a different size or pattern.
     /// \throws NumericalError A is not positive definite (the message names the failing column).
     void factorize(const Eigen::SparseMatrix<double>& A);
 
