@@ -13,6 +13,7 @@
 #include "sdmesh/error.hpp"
 
 #include "blas.hpp"
+#include "mass_product.hpp"
 
 namespace sdmesh::detail {
 namespace {
@@ -91,10 +92,10 @@ Matrix random_columns(Index n, Index b, std::uint64_t seed) {
 // ε‖W‖ / ‖result‖ along V, so that it is done twice to reach rounding ("twice is enough").
 // Returns the coefficients Vᵀ M W.
 // `largest_norm`, when given, receives the largest M-norm of W's columns before the projection.
-Matrix project_out(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix& W, double* largest_norm = nullptr) {
+Matrix project_out(const Eigen::Ref<const Matrix>& V, const MassProduct& M, Matrix& W, double* largest_norm = nullptr) {
     Matrix C(V.cols(), W.cols());
     if (V.cols() == 0) return C;
-    const Matrix MW = M * W;
+    const Matrix MW = M(W);
     if (largest_norm) *largest_norm = std::sqrt(W.cwiseProduct(MW).colwise().sum().maxCoeff());
     multiply(true, 1.0, V, MW, 0.0, C);
     multiply(false, -1.0, V, C, 1.0, W);
@@ -113,11 +114,11 @@ double shortest_norm(const Matrix& W, const Matrix& MW) {
 // are projected out, which saves the pass's second read of the basis (in the first steps; later
 // the loss is larger at every measured step). Returns the coefficients applied; `loss` receives
 // the largest coefficient along the older columns over that norm.
-Matrix project_out_measured(const Eigen::Ref<const Matrix>& V, Index local, const Sparse& M, Matrix& W,
+Matrix project_out_measured(const Eigen::Ref<const Matrix>& V, Index local, const MassProduct& M, Matrix& W,
                             double threshold, double& loss) {
     const Index m = V.cols(), older = m - local;
     Matrix C(m, W.cols());
-    const Matrix MW = M * W;
+    const Matrix MW = M(W);
     multiply(true, 1.0, V, MW, 0.0, C);
     loss = older > 0 ? C.topRows(older).cwiseAbs().maxCoeff() / shortest_norm(W, MW) : 0.0;
     if (loss <= threshold) {
@@ -129,8 +130,8 @@ Matrix project_out_measured(const Eigen::Ref<const Matrix>& V, Index local, cons
     return C;
 }
 
-Matrix gram(const Matrix& W, const Sparse& M) {
-    const Matrix MW = M * W;
+Matrix gram(const Matrix& W, const MassProduct& M) {
+    const Matrix MW = M(W);
     Matrix G(W.cols(), W.cols());
     multiply(true, 1.0, W, MW, 0.0, G);
     return 0.5 * (G + G.transpose());
@@ -142,7 +143,7 @@ Matrix gram(const Matrix& W, const Sparse& M) {
 // kLostDirection · `scale` are dropped (their rows of R are zero) and replaced by random ones
 // orthogonalized against V; those below kReprojectBelow · `scale` are projected against V once
 // more first. W is overwritten by Q; returns R.
-Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix& W, const Matrix& G, double scale,
+Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const MassProduct& M, Matrix& W, const Matrix& G, double scale,
                       std::uint64_t seed) {
     const Index b = W.cols();
     Eigen::SelfAdjointEigenSolver<Matrix> first(G);
@@ -187,8 +188,9 @@ Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const Sparse& M, Matrix
 
 }  // namespace
 
-BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const BlockLanczosOptions& options) {
-    const Index n = M.rows();
+BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& mass, const BlockLanczosOptions& options) {
+    const MassProduct M(mass);
+    const Index n = mass.rows();
     // Blocks of at most a third of n, so that small problems still take several steps. When the
     // basis may fill the whole space, the blocks divide n, so that the last one completes it
     // (the Ritz pairs are then exact).
@@ -217,7 +219,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
     auto last_progress = std::chrono::steady_clock::now();
     for (Index step = 0; (step + 1) * b <= capacity; ++step) {
         m = (step + 1) * b;
-        Matrix W = K.solve_columns(M * V.middleCols(step * b, b));
+        Matrix W = K.solve_columns(M(V.middleCols(step * b, b)));
         result.solves += static_cast<int>(b);
         result.steps = static_cast<int>(step + 1);
         // S Q_j has large components only along the last two blocks (the Lanczos recurrence);
@@ -237,7 +239,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& M, const
         // first pass took most of the block (it lies nearly in the basis), nor when the basis can
         // fill much of the space: on a 42-vertex sphere, skipping made the solver fail.
         Matrix H = Matrix::Zero(m, b);
-        if (may_skip && scale <= kMaxShrinkWhenSkipping * shortest_norm(W, M * W)) {
+        if (may_skip && scale <= kMaxShrinkWhenSkipping * shortest_norm(W, M(W))) {
             H.bottomRows(local) = project_out(V.middleCols(m - local, local), M, W);
             may_skip = false;
         } else {

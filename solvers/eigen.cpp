@@ -16,6 +16,7 @@
 #include "sdmesh/error.hpp"
 
 #include "blas.hpp"
+#include "mass_product.hpp"
 #include "block_lanczos.hpp"
 #include "free_vertices.hpp"
 
@@ -168,14 +169,16 @@ Eigenpairs dense_eigenpairs(const Sparse& L, const Sparse& M, int k, EigenReport
 }
 
 // The report's accuracy: the largest relative residual ‖Lφ − λMφ‖ / (max(|λ|, |σ|) ‖Mφ‖) and the
-// largest entry of ΦᵀMΦ − I. Blocks of columns, two side by side, each thread reusing its
-// products' storage (fresh pages are slow to touch); maxima do not depend on the order.
+// largest entry of ΦᵀMΦ − I (of its lower triangle, computed alone). Blocks of columns, two side
+// by side, each thread reusing its products' storage (fresh pages are slow to touch); maxima do
+// not depend on the order.
 void measure_accuracy(const Sparse& L, const Sparse& M, const Eigen::VectorXd& values, const Eigen::MatrixXd& phi,
                       EigenReport& report) {
     constexpr Eigen::Index kBlock = 8;
     const Eigen::Index n = phi.rows(), k = phi.cols(), blocks = (k + kBlock - 1) / kBlock;
+    const detail::MassProduct mass(M);
     Eigen::VectorXd residual(k);
-    Eigen::MatrixXd gram(k, k);
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(k, k);  // ΦᵀMΦ, lower triangle
 #pragma omp parallel num_threads(2)
     {
         Eigen::MatrixXd L_phi(n, std::min(kBlock, k)), M_phi(n, std::min(kBlock, k));
@@ -183,18 +186,19 @@ void measure_accuracy(const Sparse& L, const Sparse& M, const Eigen::VectorXd& v
         for (Eigen::Index block = 0; block < blocks; ++block) {
             const Eigen::Index first = block * kBlock, width = std::min(kBlock, k - first);
             L_phi.leftCols(width).noalias() = L * phi.middleCols(first, width);
-            M_phi.leftCols(width).noalias() = M * phi.middleCols(first, width);
+            mass.apply(phi.middleCols(first, width), M_phi.leftCols(width));
             for (Eigen::Index j = 0; j < width; ++j) {
                 const double lambda = values[first + j];
                 const double scale = std::max(std::abs(lambda), std::abs(report.sigma)) * M_phi.col(j).norm();
                 residual[first + j] = (L_phi.col(j) - lambda * M_phi.col(j)).norm() / scale;
             }
-            detail::multiply(true, 1.0, phi, M_phi.leftCols(width), 0.0, gram.middleCols(first, width));
+            detail::multiply(true, 1.0, phi.rightCols(k - first), M_phi.leftCols(width), 0.0,
+                             gram.block(first, first, k - first, width));
         }
     }
     report.max_residual = residual.maxCoeff();
     report.max_orthogonality_error =
-        (0.5 * (gram + gram.transpose()) - Eigen::MatrixXd::Identity(k, k)).cwiseAbs().maxCoeff();
+        (gram - Eigen::MatrixXd::Identity(k, k)).triangularView<Eigen::Lower>().toDenseMatrix().cwiseAbs().maxCoeff();
 }
 
 }  // namespace
