@@ -188,23 +188,31 @@ Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const MassProduct& M, M
 
 }  // namespace
 
-BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& mass, const BlockLanczosOptions& options) {
-    const MassProduct M(mass);
-    const Index n = mass.rows();
+BasisShape basis_shape(Index n, const BlockLanczosOptions& options) {
     // Blocks of at most a third of n, so that small problems still take several steps. When the
     // basis may fill the whole space, the blocks divide n, so that the last one completes it
     // (the Ritz pairs are then exact).
-    Index capacity = std::min<Index>(n, options.max_columns);
-    Index b = std::clamp<Index>(options.block_size, 1, std::max<Index>(1, std::min(n / 3, capacity)));
-    if (capacity == n)
-        while (n % b != 0) --b;
+    BasisShape shape;
+    shape.capacity = std::min<Index>(n, options.max_columns);
+    shape.block = std::clamp<Index>(options.block_size, 1, std::max<Index>(1, std::min(n / 3, shape.capacity)));
+    if (shape.capacity == n)
+        while (n % shape.block != 0) --shape.block;
     else
-        capacity = capacity / b * b;
+        shape.capacity = shape.capacity / shape.block * shape.block;
+    shape.expected = std::min(shape.capacity, kExpectedColumnsPerPair * (options.wanted + options.margin));
+    return shape;
+}
+
+BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& mass, const BlockLanczosOptions& options,
+                                 Matrix V) {
+    const MassProduct M(mass);
+    const Index n = mass.rows();
+    const auto [b, capacity, expected] = basis_shape(n, options);
     const Index tested = std::min<Index>(options.wanted + options.margin, capacity);
     const Index wanted = std::min<Index>(options.wanted, tested);
 
     BlockLanczosResult result;
-    Matrix V(n, capacity);  // pages are touched only as the basis grows
+    if (V.rows() != n || V.cols() != capacity) V.resize(n, capacity);  // pages are touched as the basis grows
     Matrix T = Matrix::Zero(capacity, capacity);
     {
         Matrix start = random_columns(n, b, 1);

@@ -4,13 +4,16 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <Spectra/MatOp/SparseSymMatProd.h>
 #include <Spectra/SymGEigsShiftSolver.h>
+#include <omp.h>
 
 #include "sdmesh/cholesky.hpp"
 #include "sdmesh/error.hpp"
@@ -19,6 +22,7 @@
 #include "mass_product.hpp"
 #include "block_lanczos.hpp"
 #include "free_vertices.hpp"
+#include "prefault.hpp"
 
 namespace sdmesh {
 namespace {
@@ -138,16 +142,34 @@ Eigenpairs block_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, in
     const auto start = std::chrono::steady_clock::now();
     if (options.progress)
         std::fprintf(stderr, "eigs: factorizing L - sigma M (n = %ld)\n", static_cast<long>(L.rows()));
-    const CholeskySolver factor(Sparse(L - report.sigma * M));
+    const detail::BlockLanczosOptions lanczos_options{.wanted = k,
+                                                      .margin = nev - k,
+                                                      .max_columns = basis,
+                                                      .tolerance = options.tolerance,
+                                                      .progress = options.progress};
+    const detail::BasisShape shape = detail::basis_shape(L.rows(), lanczos_options);
+    Eigen::MatrixXd storage(L.rows(), shape.capacity);
+    const Sparse A = L - report.sigma * M;
+    CholeskySolver factor;
+    {
+        // CHOLMOD's ordering runs on one thread; the other maps the basis's expected pages
+        // meanwhile, which the first writes would otherwise fault in one at a time (nefertiti
+        // k = 50: 29 ms of 0.36 s).
+        const auto map_basis = [&] {
+            detail::prefault(storage.data(), static_cast<size_t>(L.rows() * shape.expected) * sizeof(double));
+        };
+        std::optional<std::jthread> mapper;
+        if (omp_get_max_threads() > 1)
+            mapper.emplace(map_basis);
+        else
+            map_basis();
+        factor.analyze(A);
+    }
+    factor.factorize(A);
     if (options.progress)
         std::fprintf(stderr, "eigs: factorized in %.1f s; block Lanczos for %d pairs\n",
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), k);
-    detail::BlockLanczosResult lanczos = detail::block_lanczos(factor, M,
-                                                               {.wanted = k,
-                                                                .margin = nev - k,
-                                                                .max_columns = basis,
-                                                                .tolerance = options.tolerance,
-                                                                .progress = options.progress});
+    detail::BlockLanczosResult lanczos = detail::block_lanczos(factor, M, lanczos_options, std::move(storage));
     report.iterations = lanczos.steps;
     report.solves = lanczos.solves;
     report.status = lanczos.converged ? EigenStatus::converged : EigenStatus::not_converged;
