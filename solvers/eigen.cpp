@@ -23,6 +23,7 @@
 #include "block_lanczos.hpp"
 #include "free_vertices.hpp"
 #include "prefault.hpp"
+#include "symmetric_product.hpp"
 
 namespace sdmesh {
 namespace {
@@ -207,7 +208,7 @@ void measure_accuracy(const Sparse& L, const Sparse& M, const Eigen::VectorXd& v
 #pragma omp for schedule(static, 1)
         for (Eigen::Index block = 0; block < blocks; ++block) {
             const Eigen::Index first = block * kBlock, width = std::min(kBlock, k - first);
-            L_phi.leftCols(width).noalias() = L * phi.middleCols(first, width);
+            detail::symmetric_product(L, phi.middleCols(first, width), L_phi.leftCols(width));
             mass.apply(phi.middleCols(first, width), M_phi.leftCols(width));
             for (Eigen::Index j = 0; j < width; ++j) {
                 const double lambda = values[first + j];

@@ -6,8 +6,11 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "symmetric_product.hpp"
+
 namespace sdmesh::detail {
 
+// M is symmetric and stored whole (both triangles).
 class MassProduct {
 public:
     explicit MassProduct(const Eigen::SparseMatrix<double>& M) : M_(M) {
@@ -20,7 +23,7 @@ public:
     /// out = M X (out must not overlap X).
     void apply(const Eigen::Ref<const Eigen::MatrixXd>& X, Eigen::Ref<Eigen::MatrixXd> out) const {
         if (diagonal_.size() == 0) {
-            out.noalias() = M_ * X;
+            symmetric_product(M_, X, out);
             return;
         }
         for (Eigen::Index j = 0; j < X.cols(); ++j) out.col(j) = diagonal_.cwiseProduct(X.col(j));
