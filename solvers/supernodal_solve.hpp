@@ -35,8 +35,9 @@ struct SupernodalLayout {
 // is cut below its top into whole subtrees, dealt to two parts of about equal factor entries;
 // the supernodes above the cut (the top separators, with nested dissection) stay with one
 // thread. A part's substitutions touch only its own rows and the top's, so the parts run side by
-// side: forward, the second part adds its updates of top rows into a buffer of its own. The plan
-// depends only on the factor's structure, so it is made once per symbolic analysis.
+// side: forward, the second part adds its updates of top rows into a buffer of its own. The
+// numeric factorization (supernodal_factor.hpp) shares the work the same way. The plan depends
+// only on the factor's structure, so it is made once per symbolic analysis.
 struct SolvePlan {
     std::vector<int> parts[2];  // each part's supernodes, ascending
     std::vector<int> top;       // the other supernodes, ascending
