@@ -242,9 +242,21 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     const bool restricted = !options.dirichlet_vertices.empty();
     const Sparse P =
         restricted ? detail::VertexSplit::make(n_all, options.dirichlet_vertices, "eigenpairs").free : Sparse();
-    // Full symmetric copies: the products below use both triangles.
-    const Sparse L = restricted ? detail::restrict_to(L_full, P, P) : Sparse(L_full);
-    const Sparse M = restricted ? detail::restrict_to(M_full, P, P) : Sparse(M_full);
+    // The products below use both triangles, compressed: the free rows and columns, or the
+    // matrices themselves (a copy only if they are not compressed).
+    const auto operand = [&](const Sparse& full, Sparse& storage) -> const Sparse& {
+        if (restricted)
+            storage = detail::restrict_to(full, P, P);
+        else if (!full.isCompressed())
+            storage = full;
+        else
+            return full;
+        storage.makeCompressed();
+        return storage;
+    };
+    Sparse L_storage, M_storage;
+    const Sparse& L = operand(L_full, L_storage);
+    const Sparse& M = operand(M_full, M_storage);
     const int n = static_cast<int>(L.rows());
     const int k = options.k;
     if (k < 1 || k >= n)

@@ -13,6 +13,8 @@ namespace sdmesh::detail {
 // M is symmetric and stored whole (both triangles).
 class MassProduct {
 public:
+    static constexpr Eigen::Index kParallelRows = 1 << 14;
+
     explicit MassProduct(const Eigen::SparseMatrix<double>& M) : M_(M) {
         bool diagonal = M.isCompressed() && M.nonZeros() == M.rows();
         for (Eigen::Index j = 0; diagonal && j < M.outerSize(); ++j)
@@ -26,6 +28,8 @@ public:
             symmetric_product(M_, X, out);
             return;
         }
+        // Columns on two threads for tall blocks (elementwise: the same result on any number).
+#pragma omp parallel for num_threads(2) schedule(static) if (X.rows() >= kParallelRows)
         for (Eigen::Index j = 0; j < X.cols(); ++j) out.col(j) = diagonal_.cwiseProduct(X.col(j));
     }
     [[nodiscard]] Eigen::MatrixXd operator()(const Eigen::Ref<const Eigen::MatrixXd>& X) const {
