@@ -64,7 +64,7 @@ void compute_update(const double* block, int height, int columns, int p1, int n1
 }
 
 // Cholesky of a supernode's block (height x columns, column-major): the triangle on top becomes
-// L_ss and the rows below L_ss⁻ᵀ times themselves. Returns -1 or the failing column.
+// L_ss and the rows below B become B L_ss⁻ᵀ. Returns -1 or the failing column.
 int factor_block(double* block, int height, int columns) {
     if (columns > kMinLapackColumns) {
         int info = 0;
@@ -90,52 +90,56 @@ int factor_block(double* block, int height, int columns) {
     return -1;
 }
 
+// Queues supernode d for the supernode holding `row`, the first of its rows not yet used.
+void queue_update(PendingUpdates& pending, const FactorPlan& plan, int d, int row) {
+    int& list = pending.head[plan.group[d]][plan.supernode_of[row]];
+    pending.next[d] = list;
+    list = d;
+}
+
+// Subtracts descendant d's update from supernode s's block (whose rows scratch.local_row maps)
+// and queues d for the next supernode its rows reach.
+void apply_update(const SupernodalLayout& f, int d, int s, double* block, const FactorPlan& plan,
+                  PendingUpdates& pending, Scratch& scratch) {
+    const int first = f.super[s], end = f.super[s + 1], height = f.height(s);
+    const int d_height = f.height(d);
+    const int* d_rows = f.rows + f.row_start[d];
+    const int p1 = pending.position[d];
+    int p2 = p1;
+    while (p2 < d_height && d_rows[p2] < end) ++p2;
+    const int n1 = p2 - p1, n2 = d_height - p1;
+    double* C = scratch.update.data();
+    compute_update(f.values + f.value_start[d], d_height, f.columns(d), p1, n1, n2, C);
+    for (int j = 0; j < n1; ++j) {
+        double* target = block + static_cast<long>(d_rows[p1 + j] - first) * height;
+        const double* c = C + static_cast<long>(j) * n2;
+        for (int i = j; i < n2; ++i) target[scratch.local_row[d_rows[p1 + i]]] -= c[i];
+    }
+    pending.position[d] = p2;
+    if (p2 < d_height) queue_update(pending, plan, d, d_rows[p2]);
+}
+
 // Factors the supernodes of one group, ascending (left-looking: each takes the updates of its
-// descendants, then hands itself on to its first ancestor). Returns -1 or the failing column.
+// descendants, then is queued for its first ancestor). Returns -1 or the failing column.
 int factor_group(const SupernodalLayout& f, const std::vector<int>& supernodes, const FactorPlan& plan, const double* a,
                  PendingUpdates& pending, Scratch& scratch) {
     for (const int s : supernodes) {
-        const int first = f.super[s], columns = f.columns(s), height = f.height(s);
+        const int columns = f.columns(s), height = f.height(s);
         const int* rows = f.rows + f.row_start[s];
         double* block = f.values + f.value_start[s];
         std::fill(block, block + static_cast<long>(height) * columns, 0.0);
         for (int k = plan.start[s]; k < plan.start[s + 1]; ++k) block[plan.offset[k]] += a[plan.source[k]];
         for (int i = 0; i < height; ++i) scratch.local_row[rows[i]] = i;
-
-        for (auto& head : pending.head) {
+        for (auto& head : pending.head)
             for (int d = std::exchange(head[s], -1); d >= 0;) {
-                const int next = pending.next[d];
-                const int d_columns = f.columns(d), d_height = f.height(d);
-                const int* d_rows = f.rows + f.row_start[d];
-                const int p1 = pending.position[d];
-                int p2 = p1;
-                while (p2 < d_height && d_rows[p2] < first + columns) ++p2;
-                const int n1 = p2 - p1, n2 = d_height - p1;
-                double* C = scratch.update.data();
-                compute_update(f.values + f.value_start[d], d_height, d_columns, p1, n1, n2, C);
-                for (int j = 0; j < n1; ++j) {
-                    double* target = block + static_cast<long>(d_rows[p1 + j] - first) * height;
-                    const double* c = C + static_cast<long>(j) * n2;
-                    for (int i = j; i < n2; ++i) target[scratch.local_row[d_rows[p1 + i]]] -= c[i];
-                }
-                pending.position[d] = p2;
-                if (p2 < d_height) {
-                    auto& list = pending.head[plan.group[d]][plan.supernode_of[d_rows[p2]]];
-                    pending.next[d] = list;
-                    list = d;
-                }
+                const int next = pending.next[d];  // apply_update relinks d
+                apply_update(f, d, s, block, plan, pending, scratch);
                 d = next;
             }
-        }
-
         const int failed = factor_block(block, height, columns);
-        if (failed >= 0) return first + failed;
+        if (failed >= 0) return f.super[s] + failed;
         pending.position[s] = columns;
-        if (height > columns) {
-            auto& list = pending.head[plan.group[s]][plan.supernode_of[rows[columns]]];
-            pending.next[s] = list;
-            list = s;
-        }
+        if (height > columns) queue_update(pending, plan, s, rows[columns]);
     }
     return -1;
 }
