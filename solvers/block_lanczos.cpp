@@ -102,9 +102,7 @@ Eigen::VectorXd squared_norms(const Matrix& W, const Matrix& MW) {
 
 // W ← W − V (Vᵀ M W): one classical Gram–Schmidt pass, which leaves components of size
 // ε‖W‖ / ‖result‖ along V, so that it is done twice to reach rounding ("twice is enough").
-// Returns the coefficients Vᵀ M W.
-// `largest_norm`, when given, receives the largest M-norm of W's columns before the projection.
-// With MW = M W given (it is not updated).
+// Returns the coefficients Vᵀ M W. This form is given MW = M W (and leaves it as it was).
 Matrix project_out(const Eigen::Ref<const Matrix>& V, const Matrix& MW, Matrix& W) {
     Matrix C(V.cols(), W.cols());
     if (V.cols() == 0) return C;
@@ -112,6 +110,8 @@ Matrix project_out(const Eigen::Ref<const Matrix>& V, const Matrix& MW, Matrix& 
     multiply(false, -1.0, V, C, 1.0, W);
     return C;
 }
+// This one computes M W; `largest_norm`, when given, receives the largest M-norm of W's columns
+// before the projection.
 Matrix project_out(const Eigen::Ref<const Matrix>& V, const MassProduct& M, Matrix& W, double* largest_norm = nullptr) {
     const Matrix MW = M(W);
     if (largest_norm) *largest_norm = std::sqrt(squared_norms(W, MW).maxCoeff());
