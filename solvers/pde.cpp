@@ -188,8 +188,9 @@ HeatGeodesics::Factorizations HeatGeodesics::factorize(const Triangulation& t, c
         }
     };
     const int count = static_cast<int>(tasks.size());
-    // One thread: no OpenMP region at all. Inside one, even of a single thread, CHOLMOD's
-    // factorizations (BLAS from OpenBLAS's OpenMP build) ran 6x slower (igea: 21-24 s, not 3.6 s).
+    // One thread: no OpenMP region at all. Inside one, even of a single thread, the BLAS calls of
+    // the factorizations (OpenBLAS's OpenMP build) ran 6x slower (igea, with CHOLMOD's numeric
+    // factorization then: 21-24 s, not 3.6 s).
     if (omp_get_max_threads() > 1) {
 #pragma omp parallel for schedule(dynamic, 1)
         for (int i = 0; i < count; ++i) run(i);
