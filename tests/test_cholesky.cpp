@@ -106,40 +106,52 @@ Eigen::SparseMatrix<double> block_diagonal(const std::vector<Eigen::SparseMatrix
     return A;
 }
 
-// CHOLMOD's view of a lower triangle (no copy).
-cholmod_sparse lower_view(Eigen::SparseMatrix<double>& lower) {
-    cholmod_sparse view{};
-    view.nrow = view.ncol = static_cast<size_t>(lower.rows());
-    view.nzmax = static_cast<size_t>(lower.nonZeros());
-    view.p = lower.outerIndexPtr();
-    view.i = lower.innerIndexPtr();
-    view.x = lower.valuePtr();
-    view.stype = -1;
-    view.itype = CHOLMOD_INT;
-    view.xtype = CHOLMOD_REAL;
-    view.dtype = CHOLMOD_DOUBLE;
-    view.sorted = view.packed = 1;
-    return view;
+// A CHOLMOD supernodal analysis of A's lower triangle with one ordering, freed with it.
+struct CholmodAnalysis {
+    cholmod_common common{};
+    Eigen::SparseMatrix<double> lower;
+    cholmod_sparse view{};  // of `lower`, no copy
+    cholmod_factor* factor = nullptr;
+
+    CholmodAnalysis(const Eigen::SparseMatrix<double>& A, int ordering) : lower(A.triangularView<Eigen::Lower>()) {
+        cholmod_start(&common);
+        common.supernodal = CHOLMOD_SUPERNODAL;
+        common.nmethods = 1;
+        common.method[0].ordering = ordering;
+        view.nrow = view.ncol = static_cast<size_t>(lower.rows());
+        view.nzmax = static_cast<size_t>(lower.nonZeros());
+        view.p = lower.outerIndexPtr();
+        view.i = lower.innerIndexPtr();
+        view.x = lower.valuePtr();
+        view.stype = -1;
+        view.itype = CHOLMOD_INT;
+        view.xtype = CHOLMOD_REAL;
+        view.dtype = CHOLMOD_DOUBLE;
+        view.sorted = view.packed = 1;
+        factor = cholmod_analyze(&view, &common);
+    }
+    ~CholmodAnalysis() {
+        if (factor) cholmod_free_factor(&factor, &common);
+        cholmod_finish(&common);
+    }
+    CholmodAnalysis(const CholmodAnalysis&) = delete;
+    CholmodAnalysis& operator=(const CholmodAnalysis&) = delete;
+};
+
+// One elimination tree and a forest, both large enough for two-thread plans.
+std::vector<std::pair<std::string, Eigen::SparseMatrix<double>>> two_thread_cases() {
+    return {{"grid 200", grid_matrix(200, 0.01)},
+            {"three grids", block_diagonal({grid_matrix(150, 0.01), grid_matrix(90, 0.01), grid_matrix(120, 0.01)})}};
 }
 
 // The plan of a two-thread solve partitions the supernodes into two parts of whole subtrees and
 // a top closed towards the root, with the parts' work (factor entries) balanced, for one tree
 // (nested dissection, AMD) and for a forest.
 TEST(Cholesky, TwoThreadSolvePlanSplitsTheEliminationTreeEvenly) {
-    const std::vector<std::pair<std::string, Eigen::SparseMatrix<double>>> cases = {
-        {"grid 200", grid_matrix(200, 0.01)},
-        {"three grids", block_diagonal({grid_matrix(150, 0.01), grid_matrix(90, 0.01), grid_matrix(120, 0.01)})},
-    };
-    for (const auto& [name, A] : cases) {
+    for (const auto& [name, A] : two_thread_cases()) {
         for (const int ordering : {CHOLMOD_AMD, CHOLMOD_METIS}) {
-            cholmod_common common;
-            cholmod_start(&common);
-            common.supernodal = CHOLMOD_SUPERNODAL;
-            common.nmethods = 1;
-            common.method[0].ordering = ordering;
-            Eigen::SparseMatrix<double> lower = A.triangularView<Eigen::Lower>();
-            cholmod_sparse view = lower_view(lower);
-            cholmod_factor* factor = cholmod_analyze(&view, &common);
+            const CholmodAnalysis analysis(A, ordering);
+            const cholmod_factor* factor = analysis.factor;
             ASSERT_NE(factor, nullptr);
             const detail::SolvePlan plan = detail::plan_solve(*factor);
 
@@ -175,8 +187,6 @@ TEST(Cholesky, TwoThreadSolvePlanSplitsTheEliminationTreeEvenly) {
             const double total = static_cast<double>(work[0] + work[1] + work[2]);
             EXPECT_LT(std::abs(work[0] - work[1]), 0.05 * total) << name << ", ordering " << ordering;
             EXPECT_LT(work[2], 0.15 * total) << name << ", ordering " << ordering;
-            cholmod_free_factor(&factor, &common);
-            cholmod_finish(&common);
         }
     }
 }
@@ -202,35 +212,26 @@ Eigen::SparseMatrix<double> path_matrix(int n, double shift) {
 // grid (LAPACK and BLAS), on one tree and on a forest, on one thread and two. The factors must
 // agree to rounding and be bit-identical for one and two threads.
 TEST(Cholesky, SupernodalFactorMatchesCholmods) {
-    const std::vector<std::pair<std::string, Eigen::SparseMatrix<double>>> cases = {
-        {"grid 200", grid_matrix(200, 0.01)},
-        {"three grids", block_diagonal({grid_matrix(150, 0.01), grid_matrix(90, 0.01), grid_matrix(120, 0.01)})},
-    };
     const int initial = omp_get_max_threads();
-    for (const auto& [name, A] : cases) {
+    for (const auto& [name, A] : two_thread_cases()) {
         for (const int ordering : {CHOLMOD_AMD, CHOLMOD_METIS}) {
-            cholmod_common common;
-            cholmod_start(&common);
-            common.supernodal = CHOLMOD_SUPERNODAL;
-            common.nmethods = 1;
-            common.method[0].ordering = ordering;
-            Eigen::SparseMatrix<double> lower = A.triangularView<Eigen::Lower>();
-            cholmod_sparse view = lower_view(lower);
-            cholmod_factor* reference = cholmod_analyze(&view, &common);
+            CholmodAnalysis analysis(A, ordering);
+            cholmod_factor* reference = analysis.factor;
             ASSERT_NE(reference, nullptr);
             const detail::SolvePlan solve_plan = detail::plan_solve(*reference);
             ASSERT_FALSE(solve_plan.parts[0].empty()) << name << ": too small for two threads";
-            const detail::FactorPlan plan = detail::plan_factor(*reference, solve_plan, lower);
+            const detail::FactorPlan plan = detail::plan_factor(*reference, solve_plan, analysis.lower);
             std::vector<double> ours[2];
             for (const int threads : {1, 2}) {
-                cholmod_factor* factor = cholmod_copy_factor(reference, &common);
+                cholmod_factor* factor = cholmod_copy_factor(reference, &analysis.common);
                 omp_set_num_threads(threads);
-                ASSERT_EQ(detail::factorize_supernodal(*factor, solve_plan, plan, lower, common), -1) << name;
+                const int failed = detail::factorize_supernodal(*factor, solve_plan, plan, analysis.lower, analysis.common);
                 const auto* x = static_cast<const double*>(factor->x);
                 ours[threads - 1].assign(x, x + factor->xsize);
-                cholmod_free_factor(&factor, &common);
+                cholmod_free_factor(&factor, &analysis.common);
+                ASSERT_EQ(failed, -1) << name;
             }
-            ASSERT_TRUE(cholmod_factorize(&view, reference, &common));  // its BLAS on one thread: faster here
+            ASSERT_TRUE(cholmod_factorize(&analysis.view, reference, &analysis.common));  // its BLAS on one thread
             omp_set_num_threads(initial);
             const auto* expected = static_cast<const double*>(reference->x);
             ASSERT_EQ(ours[0].size(), reference->xsize);
@@ -241,8 +242,6 @@ TEST(Cholesky, SupernodalFactorMatchesCholmods) {
             }
             EXPECT_LT(error, 1e-13 * largest) << name << ", ordering " << ordering;
             EXPECT_TRUE(ours[0] == ours[1]) << name << ", ordering " << ordering << ": depends on the thread count";
-            cholmod_free_factor(&reference, &common);
-            cholmod_finish(&common);
         }
     }
 }
