@@ -4,8 +4,10 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <tuple>
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include "cli_run.hpp"
 #include "corpus.hpp"
@@ -88,12 +90,18 @@ void expect_same_topology_and_self_delaunay(const TriangleMesh& input, const Tri
     }
 }
 
-class Decimate : public ::testing::TestWithParam<std::string> {};
+// A generated mesh, decimated in one global order or in two halves (halves_from_vertices = 1).
+class Decimate : public ::testing::TestWithParam<std::tuple<std::string, bool>> {
+protected:
+    static std::string name() { return std::get<0>(GetParam()); }
+    static long long halves_from() { return std::get<1>(GetParam()) ? 1 : 0; }
+};
 
 TEST_P(Decimate, EveryLevelSelfDelaunayWithTheSameTopology) {
-    const TriangleMesh mesh = self_delaunay(GetParam());
+    const TriangleMesh mesh = self_delaunay(name());
     const long long n = mesh.num_vertices();
-    const DecimateOptions options{.target_ratio = 0.2, .levels = {n * 6 / 10, n * 4 / 10}};
+    const DecimateOptions options{
+        .target_ratio = 0.2, .levels = {n * 6 / 10, n * 4 / 10}, .halves_from_vertices = halves_from()};
     const DecimateResult result = decimate(mesh, options);
     const DecimateReport& r = result.report;
 
@@ -114,12 +122,13 @@ TEST_P(Decimate, EveryLevelSelfDelaunayWithTheSameTopology) {
 }
 
 TEST_P(Decimate, ErrorBoundRespected) {
-    const TriangleMesh mesh = self_delaunay(GetParam());
+    const TriangleMesh mesh = self_delaunay(name());
     // A bound that binds: half the distance reached without one (were it ignored, the result
     // would be the unbounded one).
-    const DecimateResult unbounded = decimate(mesh, {.target_ratio = 0.1});
+    const DecimateResult unbounded = decimate(mesh, {.target_ratio = 0.1, .halves_from_vertices = halves_from()});
     const double bound = 0.5 * unbounded.report.hausdorff_rel;
-    const DecimateResult bounded = decimate(mesh, {.target_ratio = 0.1, .max_error = bound});
+    const DecimateResult bounded =
+        decimate(mesh, {.target_ratio = 0.1, .max_error = bound, .halves_from_vertices = halves_from()});
     EXPECT_GT(bounded.report.rejected.max_error, 0);
     EXPECT_LE(bounded.report.hausdorff_rel, bound);
     // The bound holds at the report's sample points, measured independently here.
@@ -128,16 +137,29 @@ TEST_P(Decimate, ErrorBoundRespected) {
     expect_same_topology_and_self_delaunay(mesh, bounded.mesh, BoundaryPolicy::strict, "bounded");
 }
 
+// The same output for every run, and for one and two threads (the halves run side by side).
 TEST_P(Decimate, Deterministic) {
-    const TriangleMesh mesh = self_delaunay(GetParam());
-    const DecimateResult a = decimate(mesh, {.target_ratio = 0.3}), b = decimate(mesh, {.target_ratio = 0.3});
-    EXPECT_EQ(a.mesh.V, b.mesh.V);
-    EXPECT_EQ(a.mesh.F, b.mesh.F);
-    EXPECT_EQ(a.report.collapses, b.report.collapses);
+    const TriangleMesh mesh = self_delaunay(name());
+    const DecimateOptions options{.target_ratio = 0.3, .halves_from_vertices = halves_from()};
+    const int initial = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const DecimateResult one = decimate(mesh, options);
+    omp_set_num_threads(2);
+    const DecimateResult a = decimate(mesh, options), b = decimate(mesh, options);
+    omp_set_num_threads(initial);
+    for (const DecimateResult* r : {&a, &b}) {
+        EXPECT_EQ(r->mesh.V, one.mesh.V);
+        EXPECT_EQ(r->mesh.F, one.mesh.F);
+        EXPECT_EQ(r->report.collapses, one.report.collapses);
+    }
 }
 
-INSTANTIATE_TEST_SUITE_P(Generated, Decimate, ::testing::Values("icosphere", "grid", "cylinder", "torus"),
-                         [](const auto& test) { return test.param; });
+INSTANTIATE_TEST_SUITE_P(Generated, Decimate,
+                         ::testing::Combine(::testing::Values("icosphere", "grid", "cylinder", "torus"),
+                                            ::testing::Bool()),
+                         [](const auto& test) {
+                             return std::get<0>(test.param) + (std::get<1>(test.param) ? "_halves" : "_global");
+                         });
 
 TEST(DecimateBoundary, FreePolicyKeepsTheLoopsToo) {
     const TriangleMesh mesh = convert(bumpy_grid(), {.boundary = BoundaryPolicy::free}).mesh;
@@ -164,6 +186,7 @@ TEST(DecimateInput, BadOptionsAndMeshesThrow) {
     EXPECT_THROW((void)decimate(sphere, {.target_ratio = 1.5}), InvalidArgumentError);
     EXPECT_THROW((void)decimate(sphere, {.max_error = -1}), InvalidArgumentError);
     EXPECT_THROW((void)decimate(sphere, {.tolerance = 2}), InvalidArgumentError);
+    EXPECT_THROW((void)decimate(sphere, {.halves_from_vertices = -1}), InvalidArgumentError);
     EXPECT_THROW((void)decimate(sphere, {.target_ratio = 0.5, .levels = {10}}), InvalidArgumentError);  // below target
     TriangleMesh out_of_range = sphere;
     out_of_range.F(3, 1) = 1000;
@@ -197,9 +220,30 @@ class DecimateCorpus : public ::testing::TestWithParam<std::string> {};
 TEST_P(DecimateCorpus, ConvertedMeshDecimatesToOneFifth) {
     if (!test::corpus_available()) GTEST_SKIP() << "corpus not found at " << test::corpus_dir();
     const TriangleMesh mesh = convert(read_mesh(test::corpus_dir() / GetParam())).mesh;
-    const DecimateResult result = decimate(mesh, {.target_ratio = 0.2, .measure_hausdorff = false});
-    EXPECT_EQ(result.report.status, DecimateStatus::reached_target);
-    expect_same_topology_and_self_delaunay(mesh, result.mesh, BoundaryPolicy::strict, GetParam());
+    for (const long long halves_from : {0LL, 1LL}) {
+        const DecimateResult result =
+            decimate(mesh, {.target_ratio = 0.2, .halves_from_vertices = halves_from, .measure_hausdorff = false});
+        EXPECT_EQ(result.report.status, DecimateStatus::reached_target);
+        expect_same_topology_and_self_delaunay(mesh, result.mesh, BoundaryPolicy::strict,
+                                               GetParam() + (halves_from > 0 ? " in halves" : ""));
+    }
+}
+
+// A real mesh in two halves on two threads: the same output as on one (a race between the
+// halves would show here first).
+TEST(DecimateHalves, TheSameOutputOnOneAndTwoThreads) {
+    if (!test::corpus_available()) GTEST_SKIP() << "corpus not found at " << test::corpus_dir();
+    const TriangleMesh mesh = convert(read_mesh(test::corpus_dir() / "npm_bunny.obj")).mesh;
+    const DecimateOptions options{.target_ratio = 0.1, .halves_from_vertices = 1, .measure_hausdorff = false};
+    const int initial = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const DecimateResult one = decimate(mesh, options);
+    omp_set_num_threads(2);
+    const DecimateResult two = decimate(mesh, options);
+    omp_set_num_threads(initial);
+    EXPECT_EQ(two.mesh.V, one.mesh.V);
+    EXPECT_EQ(two.mesh.F, one.mesh.F);
+    EXPECT_EQ(two.report.rejected.not_delaunay, one.report.rejected.not_delaunay);
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, DecimateCorpus, ::testing::Values("npm_bunny.obj", "cgal_mushroom.off"),

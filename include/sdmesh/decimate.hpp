@@ -51,6 +51,12 @@ struct DecimateOptions {
     /// When the quadric optimum inside the linearised region fails the exact tests (or the region
     /// is empty), also try the unconstrained optimum, the edge's midpoint and its two ends.
     bool search_candidates = true;
+    /// Meshes with at least this many vertices are decimated in two halves of space side by side
+    /// (on two threads when OpenMP has them) for most of the way: each half in its own
+    /// cheapest-first order, both up to a common cost threshold at a time, the seam and the last
+    /// collapses before each stop in one global order. 0 = one global order throughout. The
+    /// output depends on this choice, never on the number of threads.
+    long long halves_from_vertices = 50'000;
     /// Print a progress line to stderr about every second.
     bool progress = false;
     /// Measure the two-sided sampled Hausdorff distance output <-> input for the report.

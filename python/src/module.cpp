@@ -191,7 +191,7 @@ py::tuple convert_py(py::handle V, py::handle F, const std::string& method, cons
 
 py::tuple decimate_py(py::handle V, py::handle F, long long target_vertices, double target_ratio, double max_error,
                       const std::string& boundary, double tolerance, py::handle levels, bool search_candidates,
-                      bool progress, bool measure_hausdorff) {
+                      long long halves_from_vertices, bool progress, bool measure_hausdorff) {
     const TriangleMesh mesh = mesh_from_arrays(V, F);
     DecimateOptions options{.target_vertices = target_vertices,
                             .target_ratio = target_ratio,
@@ -199,6 +199,7 @@ py::tuple decimate_py(py::handle V, py::handle F, long long target_vertices, dou
                             .boundary = parse_boundary(boundary),
                             .tolerance = tolerance,
                             .search_candidates = search_candidates,
+                            .halves_from_vertices = halves_from_vertices,
                             .progress = progress,
                             .measure_hausdorff = measure_hausdorff};
     if (!levels.is_none())
@@ -426,18 +427,21 @@ Raises InvalidMeshError (run a repair first), InvalidArgumentError.)");
           arg("target_vertices") = decimate_defaults.target_vertices, arg("target_ratio") = decimate_defaults.target_ratio,
           arg("max_error") = decimate_defaults.max_error, arg("boundary") = strict,
           arg("tolerance") = decimate_defaults.tolerance, arg("levels") = py::none(),
-          arg("search_candidates") = decimate_defaults.search_candidates, arg("progress") = decimate_defaults.progress,
+          arg("search_candidates") = decimate_defaults.search_candidates,
+          arg("halves_from_vertices") = decimate_defaults.halves_from_vertices, arg("progress") = decimate_defaults.progress,
           arg("measure_hausdorff") = decimate_defaults.measure_hausdorff,
           R"(decimate(V, F, *, target_vertices=0, target_ratio=0.5, max_error=0.0, boundary="strict",
-         tolerance=1e-10, levels=None, search_candidates=True, progress=False,
-         measure_hausdorff=True) -> (V, F, report, levels)
+         tolerance=1e-10, levels=None, search_candidates=True, halves_from_vertices=50000,
+         progress=False, measure_hausdorff=True) -> (V, F, report, levels)
 
 Coarsens a self-Delaunay mesh by edge collapses that keep it self-Delaunay (sdmesh/decimate.hpp), to
 target_vertices (or target_ratio of the input's vertices when it is 0). max_error: largest distance
 to the input relative to its bounding-box diagonal (0: none). levels: decreasing vertex counts at
-which a copy of the mesh is kept; returned as a list of (V, F). report: the keys of `sdmesh
-decimate`'s JSON except input/output, "levels" holding the levels' vertex counts; report["status"]
-is "reached_target" or "stalled".
+which a copy of the mesh is kept; returned as a list of (V, F). halves_from_vertices: meshes this
+large are decimated in two halves of space side by side for most of the way (0: one global order;
+the output never depends on the thread count). report: the keys of `sdmesh decimate`'s JSON except
+input/output, "levels" holding the levels' vertex counts; report["status"] is "reached_target" or
+"stalled".
 Raises InvalidArgumentError (the mesh is not self-Delaunay: convert() it first), InvalidMeshError.)");
 
     m.def("operators", &operators_py, arg("V"), arg("F"), arg("mass") = kDefaultMass,

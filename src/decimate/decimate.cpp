@@ -1,0 +1,228 @@
+#include "sdmesh/decimate.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "decimate/collapser.hpp"
+#include "decimate/mesh_state.hpp"
+#include "sdmesh/distance.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/validate.hpp"
+
+namespace sdmesh {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using decimation::Collapser;
+using decimation::MeshState;
+
+// The mesh with its vertices renumbered along a Morton curve of their positions and its faces
+// sorted by their lowest new vertex, so that neighbourhoods are close in memory during the
+// collapses; input_vertex maps the new vertex indices back.
+struct SpatialOrder {
+    TriangleMesh mesh;
+    std::vector<int> input_vertex;
+};
+
+SpatialOrder spatial_order(const TriangleMesh& mesh) {
+    const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+    if (nv == 0) return {mesh, {}};  // no bounding box
+    const Eigen::RowVector3d low = mesh.V.colwise().minCoeff();
+    const double extent = std::max((mesh.V.colwise().maxCoeff() - low).maxCoeff(), std::numeric_limits<double>::min());
+    std::vector<std::pair<unsigned long long, int>> code(static_cast<size_t>(nv));
+    for (int v = 0; v < nv; ++v) {
+        unsigned long long key = 0;
+        for (int axis = 0; axis < 3; ++axis) {
+            const auto cell = static_cast<unsigned long long>((mesh.V(v, axis) - low[axis]) / extent * 2097151.0);
+            for (int bit = 0; bit < 21; ++bit) key |= ((cell >> bit) & 1ULL) << (3 * bit + axis);
+        }
+        code[v] = {key, v};
+    }
+    std::sort(code.begin(), code.end());
+    SpatialOrder out;
+    out.input_vertex.resize(static_cast<size_t>(nv));
+    std::vector<int> new_index(static_cast<size_t>(nv));
+    out.mesh.V.resize(nv, 3);
+    for (int i = 0; i < nv; ++i) {
+        out.input_vertex[i] = code[i].second;
+        new_index[code[i].second] = i;
+        out.mesh.V.row(i) = mesh.V.row(code[i].second);
+    }
+    std::vector<std::pair<int, int>> face_order(static_cast<size_t>(nf));
+    for (int f = 0; f < nf; ++f)
+        face_order[f] = {std::min({new_index[mesh.F(f, 0)], new_index[mesh.F(f, 1)], new_index[mesh.F(f, 2)]}), f};
+    std::sort(face_order.begin(), face_order.end());
+    out.mesh.F.resize(nf, 3);
+    for (int i = 0; i < nf; ++i)
+        for (int k = 0; k < 3; ++k) out.mesh.F(i, k) = new_index[mesh.F(face_order[i].second, k)];
+    return out;
+}
+
+// The collapses a half's collapsers leave to the whole mesh's before each stop: the seam's
+// vertices (which only the whole mesh's collapser may remove) and a little more, so that the
+// last collapses before a stop follow one global order.
+long long whole_mesh_share(long long seam_vertices, long long to_stop) { return seam_vertices + to_stop / 64; }
+
+// Collapses in the two halves side by side until whole_mesh_share() is left before `stop`, then
+// hands everything queued to `whole`. In steps: each takes a threshold from the keys queued in
+// both halves, such that about half the collapses left are keyed below it, and each half
+// collapses, in its own cheapest-first order, below the threshold and at most its share (by live
+// vertices) of the collapses left. Each half's steps depend only on the half, so the result does
+// not depend on the number of threads.
+void collapse_in_halves(MeshState& mesh, std::array<Collapser, 2>& half, Collapser& whole, long long stop,
+                        bool progress) {
+    auto last_progress = Clock::now();
+    std::vector<double> keys;
+    for (;;) {
+        std::array<long long, 2> live_in{0, 0};
+        long long seam = 0;
+        for (int v = 0; v < static_cast<int>(mesh.alive.size()); ++v)
+            if (mesh.alive[v]) ++live_in[mesh.half_of(v)], seam += mesh.owner[v] < 0;
+        const long long live = live_in[0] + live_in[1];
+        const long long left = live - stop - whole_mesh_share(seam, live - stop);
+        keys.clear();
+        for (const Collapser& c : half) c.append_keys(keys);
+        if (left <= 0 || keys.empty()) break;
+        const auto kth = keys.begin() + std::min<long long>(static_cast<long long>(keys.size()) - 1, left / 2);
+        std::nth_element(keys.begin(), kth, keys.end());
+        const double threshold = *kth;
+        const long long before = half[0].collapses() + half[1].collapses();
+        std::array<std::exception_ptr, 2> failure;
+#pragma omp parallel for schedule(static, 1)
+        for (int h = 0; h < 2; ++h) {
+            try {
+                half[h].collapse_below(threshold, left * live_in[h] / live);
+            } catch (...) {
+                failure[h] = std::current_exception();
+            }
+        }
+        for (const std::exception_ptr& e : failure)
+            if (e) std::rethrow_exception(e);
+        if (half[0].collapses() + half[1].collapses() == before) break;
+        if (progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
+            last_progress = Clock::now();
+            std::fprintf(stderr, "decimate: %lld vertices (in two halves), %zu collapses queued\n",
+                         mesh.live_vertices.load(), half[0].queued() + half[1].queued());
+        }
+    }
+    for (Collapser& c : half) c.move_all_to(whole);
+    whole.set_clock(std::max({whole.clock(), half[0].clock(), half[1].clock()}));
+}
+
+// Collapses to each level and then to the target (see collapse_in_halves with halves).
+void collapse_to_stops(MeshState& mesh, const DecimateOptions& options, bool halves, long long target,
+                       const std::vector<int>& input_vertex, DecimateResult& result) {
+    Collapser whole(mesh, options, -1);
+    std::array<Collapser, 2> half{Collapser(mesh, options, 0), Collapser(mesh, options, 1)};
+    std::vector<int> ring;
+    for (int u = 0; u < static_cast<int>(mesh.P.size()); ++u) {
+        if (!mesh.alive[u]) continue;
+        mesh.neighbours(u, ring);
+        const int h = mesh.owner[u];
+        for (int w : ring)
+            if (w > u) (halves && h >= 0 && mesh.owner[w] == h ? half[h] : whole).push(u, w);
+    }
+    std::vector<long long> stops = options.levels;
+    stops.push_back(target);
+    for (size_t i = 0; i < stops.size(); ++i) {
+        if (halves) collapse_in_halves(mesh, half, whole, stops[i], options.progress);
+        if (!whole.collapse_count(mesh.live_vertices - stops[i], options.progress)) {
+            result.report.status = DecimateStatus::stalled;
+            break;
+        }
+        if (i + 1 == stops.size()) break;
+        result.levels.push_back(mesh.result(input_vertex));
+        if (halves)
+            for (Collapser& c : half) {
+                whole.move_owned_to(c);
+                c.set_clock(whole.clock());
+            }
+    }
+    DecimateReport& report = result.report;
+    for (const Collapser* c : {&whole, &half[0], &half[1]}) {
+        report.collapses += c->collapses();
+        report.rejected.topology += c->rejected().topology;
+        report.rejected.not_delaunay += c->rejected().not_delaunay;
+        report.rejected.normal_flip += c->rejected().normal_flip;
+        report.rejected.max_error += c->rejected().max_error;
+    }
+}
+
+void check_options(const DecimateOptions& o, long long input_vertices, long long target) {
+    if (o.halves_from_vertices < 0) throw InvalidArgumentError("decimate: halves_from_vertices must be >= 0");
+    if (o.target_vertices < 0) throw InvalidArgumentError("decimate: target_vertices must be >= 0");
+    if (o.target_vertices == 0 && !(o.target_ratio > 0 && o.target_ratio <= 1))
+        throw InvalidArgumentError("decimate: target_ratio must be in (0, 1]");
+    if (!(o.max_error >= 0)) throw InvalidArgumentError("decimate: max_error must be >= 0");
+    if (!(o.tolerance >= 0 && o.tolerance < std::numbers::pi / 2))
+        throw InvalidArgumentError("decimate: tolerance must be in [0, π/2)");
+    for (size_t i = 0; i < o.levels.size(); ++i)
+        if (o.levels[i] <= target || o.levels[i] >= input_vertices || (i > 0 && o.levels[i] >= o.levels[i - 1]))
+            throw InvalidArgumentError("decimate: level " + std::to_string(i) + " (" + std::to_string(o.levels[i]) +
+                                       " vertices) must lie between the target (" + std::to_string(target) +
+                                       ") and the input's " + std::to_string(input_vertices) +
+                                       " vertices, in decreasing order");
+}
+
+}  // namespace
+
+DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options) {
+    const auto start = Clock::now();
+    require_indices_in_range(mesh);
+    const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
+    const MeshInfo info = validate(mesh, edges);
+    require_manifold(info, "decimate");
+    if (info.orientation_conflicts > 0)
+        throw InvalidMeshError("decimate: the faces are not consistently oriented (" +
+                               std::to_string(info.orientation_conflicts) + " edges); run sdmesh repair");
+    if (info.zero_area_faces > 0)
+        throw InvalidMeshError("decimate: face " + std::to_string(info.first_zero_area_face) + " has zero area (" +
+                               std::to_string(info.zero_area_faces) + " such faces)");
+    const CertifyOptions certify_options{.boundary = options.boundary, .tolerance = options.tolerance};
+    const long long input_vertices = info.vertices;
+    const long long target = options.target_vertices > 0
+                                 ? options.target_vertices
+                                 : std::llround(options.target_ratio * static_cast<double>(input_vertices));
+    check_options(options, input_vertices, target);
+    const DelaunayCertificate input_certificate = certify(mesh, edges, certify_options);
+    if (!input_certificate.self_delaunay)
+        throw InvalidArgumentError(
+            "decimate: the input is not self-Delaunay (" + std::to_string(input_certificate.non_delaunay_edges) +
+            " non-Delaunay interior edges, " + std::to_string(input_certificate.boundary_obtuse_edges) +
+            " obtuse boundary edges); convert it first (sdmesh convert, or sdmesh decimate --convert-first)");
+
+    DecimateResult result;
+    DecimateReport& report = result.report;
+    report.input_vertices = input_vertices;
+    report.input_faces = mesh.num_faces();
+    report.target_vertices = target;
+    const SpatialOrder ordered = spatial_order(mesh);
+    // Two halves of the Morton order: two boxes of space.
+    const bool halves = options.halves_from_vertices > 0 && input_vertices >= options.halves_from_vertices;
+    const int nv = ordered.mesh.num_vertices();
+    MeshState state(ordered.mesh, build_edge_table(ordered.mesh.F, nv), options, halves ? nv / 2 : nv);
+    collapse_to_stops(state, options, halves, target, ordered.input_vertex, result);
+    result.mesh = state.result(ordered.input_vertex);
+    report.output_vertices = result.mesh.num_vertices();
+    report.output_faces = result.mesh.num_faces();
+    report.certificate = certify(result.mesh, certify_options);
+    if (options.measure_hausdorff && report.collapses > 0)
+        // A few samples per face of the input: the output's faces are larger, and sampled densely.
+        report.hausdorff_rel =
+            hausdorff_distance(mesh, result.mesh, {.samples_per_face = 4, .max_samples = 4'000'000}).hausdorff_rel;
+    report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return result;
+}
+
+std::string_view to_string(DecimateStatus status) {
+    return status == DecimateStatus::stalled ? "stalled" : "reached_target";
+}
+
+}  // namespace sdmesh
