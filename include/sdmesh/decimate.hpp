@@ -18,6 +18,9 @@
 //    of each face's 2 × 2 subdivision): the input's points are kept with a face of the output
 //    they are that close to, and the new faces' points are checked against the input.
 // When no allowable collapse is left before the target, decimation stops with status stalled.
+// Large meshes (options.halves_from_vertices) are decimated in two halves of space side by side
+// for most of the way, each in its own cheapest-first order up to a common cost threshold at a
+// time; the seam between them and the last collapses before each stop follow one global order.
 //
 //   const auto result = sdmesh::decimate(mesh, {.target_ratio = 0.1, .max_error = 0.01});
 //   if (result.report.status == sdmesh::DecimateStatus::reached_target) write_mesh("out.obj", result.mesh);

@@ -70,42 +70,86 @@ SpatialOrder spatial_order(const TriangleMesh& mesh) {
 // last collapses before a stop follow one global order.
 long long whole_mesh_share(long long seam_vertices, long long to_stop) { return seam_vertices + to_stop / 64; }
 
+// Runs work(0) and work(1) side by side.
+template <class Work>
+void on_both_halves(const Work& work) {
+    std::array<std::exception_ptr, 2> failure;
+#pragma omp parallel for schedule(static, 1)
+    for (int h = 0; h < 2; ++h) {
+        try {
+            work(h);
+        } catch (...) {
+            failure[h] = std::current_exception();
+        }
+    }
+    for (const std::exception_ptr& e : failure)
+        if (e) std::rethrow_exception(e);
+}
+
+// Queues every edge: with the half that owns both its ends, else with `whole`.
+void queue_every_edge(const MeshState& mesh, bool halves, std::array<Collapser, 2>& half, Collapser& whole) {
+    const int nv = static_cast<int>(mesh.P.size());
+    if (!halves) {
+        std::vector<int> ring;
+        for (int u = 0; u < nv; ++u) {
+            mesh.neighbours(u, ring);
+            for (int w : ring)
+                if (w > u) whole.push(u, w);
+        }
+        return;
+    }
+    std::array<std::vector<std::pair<int, int>>, 2> across;  // edges for `whole`, found by each half
+    on_both_halves([&](int h) {
+        std::vector<int> ring;
+        for (int u = h == 0 ? 0 : mesh.split; u < (h == 0 ? mesh.split : nv); ++u) {
+            mesh.neighbours(u, ring);
+            for (int w : ring)
+                if (w > u) {
+                    if (mesh.owner[u] == h && mesh.owner[w] == h) half[h].push(u, w);
+                    else across[h].emplace_back(u, w);
+                }
+        }
+    });
+    for (const auto& edges : across)
+        for (const auto& [u, w] : edges) whole.push(u, w);
+}
+
 // Collapses in the two halves side by side until whole_mesh_share() is left before `stop`, then
 // hands everything queued to `whole`. In steps: each takes a threshold from the keys queued in
-// both halves, such that about half the collapses left are keyed below it, and each half
+// both halves, such that `reach` times the collapses left are keyed below it, and each half
 // collapses, in its own cheapest-first order, below the threshold and at most its share (by live
-// vertices) of the collapses left. Each half's steps depend only on the half, so the result does
-// not depend on the number of threads.
+// vertices) of the collapses left. Most keys are of candidates that a collapse makes stale or
+// that are refused, so `reach` doubles while a step falls short of a quarter of the collapses
+// left. Each half's steps depend only on the half, so the result does not depend on the number
+// of threads.
 void collapse_in_halves(MeshState& mesh, std::array<Collapser, 2>& half, Collapser& whole, long long stop,
                         bool progress) {
+    // The seam does not change while the halves collapse.
+    std::array<long long, 2> live_in{0, 0};
+    long long seam = 0;
+    for (int v = 0; v < static_cast<int>(mesh.alive.size()); ++v)
+        if (mesh.alive[v]) ++live_in[mesh.half_of(v)], seam += mesh.owner[v] < 0;
     auto last_progress = Clock::now();
     std::vector<double> keys;
+    long long reach = 1;
     for (;;) {
-        std::array<long long, 2> live_in{0, 0};
-        long long seam = 0;
-        for (int v = 0; v < static_cast<int>(mesh.alive.size()); ++v)
-            if (mesh.alive[v]) ++live_in[mesh.half_of(v)], seam += mesh.owner[v] < 0;
         const long long live = live_in[0] + live_in[1];
         const long long left = live - stop - whole_mesh_share(seam, live - stop);
         keys.clear();
         for (const Collapser& c : half) c.append_keys(keys);
         if (left <= 0 || keys.empty()) break;
-        const auto kth = keys.begin() + std::min<long long>(static_cast<long long>(keys.size()) - 1, left / 2);
+        const auto kth = keys.begin() + std::min(static_cast<long long>(keys.size()) - 1, reach * left);
         std::nth_element(keys.begin(), kth, keys.end());
         const double threshold = *kth;
-        const long long before = half[0].collapses() + half[1].collapses();
-        std::array<std::exception_ptr, 2> failure;
-#pragma omp parallel for schedule(static, 1)
+        const std::array<long long, 2> before{half[0].collapses(), half[1].collapses()};
+        on_both_halves([&](int h) { half[h].collapse_below(threshold, left * live_in[h] / live); });
+        long long done = 0;
         for (int h = 0; h < 2; ++h) {
-            try {
-                half[h].collapse_below(threshold, left * live_in[h] / live);
-            } catch (...) {
-                failure[h] = std::current_exception();
-            }
+            live_in[h] -= half[h].collapses() - before[h];
+            done += half[h].collapses() - before[h];
         }
-        for (const std::exception_ptr& e : failure)
-            if (e) std::rethrow_exception(e);
-        if (half[0].collapses() + half[1].collapses() == before) break;
+        if (done == 0) break;
+        if (4 * done < left) reach *= 2;
         if (progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
             last_progress = Clock::now();
             std::fprintf(stderr, "decimate: %lld vertices (in two halves), %zu collapses queued\n",
@@ -121,14 +165,7 @@ void collapse_to_stops(MeshState& mesh, const DecimateOptions& options, bool hal
                        const std::vector<int>& input_vertex, DecimateResult& result) {
     Collapser whole(mesh, options, -1);
     std::array<Collapser, 2> half{Collapser(mesh, options, 0), Collapser(mesh, options, 1)};
-    std::vector<int> ring;
-    for (int u = 0; u < static_cast<int>(mesh.P.size()); ++u) {
-        if (!mesh.alive[u]) continue;
-        mesh.neighbours(u, ring);
-        const int h = mesh.owner[u];
-        for (int w : ring)
-            if (w > u) (halves && h >= 0 && mesh.owner[w] == h ? half[h] : whole).push(u, w);
-    }
+    queue_every_edge(mesh, halves, half, whole);
     std::vector<long long> stops = options.levels;
     stops.push_back(target);
     for (size_t i = 0; i < stops.size(); ++i) {
