@@ -24,7 +24,6 @@ public:
     /// `half` 0 or 1 for a half's collapser, -1 for the whole mesh.
     Collapser(MeshState& mesh, const DecimateOptions& options, int half);
 
-    [[nodiscard]] int half() const { return half_; }
     [[nodiscard]] long long collapses() const { return collapses_; }
     [[nodiscard]] const DecimateRejections& rejected() const { return rejected_; }
     [[nodiscard]] size_t queued() const { return queue_.size(); }
