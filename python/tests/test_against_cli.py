@@ -107,6 +107,11 @@ def test_decimate_equals_the_cli(cli, tmp_path, converted_bunny):
         np.testing.assert_array_equal(ours_V, theirs_V)
         np.testing.assert_array_equal(ours_F, theirs_F)
     assert report["certificate"]["self_delaunay"] and sdmesh.check(V2, F2)["self_delaunay"]
+    V3, F3, report3, _ = sdmesh.decimate(V, F, target_ratio=0.5, halves_from_vertices=1)  # in two halves
+    assert len(V3) == len(V2) and sdmesh.check(V3, F3)["self_delaunay"]
+    assert report3["certificate"]["self_delaunay"]
+    with pytest.raises(sdmesh.InvalidArgumentError):
+        sdmesh.decimate(V, F, halves_from_vertices=-1)
     with pytest.raises(sdmesh.InvalidArgumentError):
         sdmesh.decimate(*sdmesh.read_mesh(DATA_DIR / "bunny.obj"))  # not self-Delaunay
 
