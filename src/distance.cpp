@@ -94,6 +94,8 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh) {
     build(order, centroid, 0, nf);
 
     face_ = std::move(order);
+    slot_.resize(nf);
+    for (int i = 0; i < nf; ++i) slot_[face_[i]] = i;
     triangles_.resize(nf);
     for (int i = 0; i < nf; ++i) {
         Triangle& t = triangles_[i];
@@ -137,7 +139,17 @@ int TriangleTree::build(std::vector<int>& order, const std::vector<Vector3d>& ce
 }
 
 ClosestPoint TriangleTree::closest_point(const Vector3d& query) const {
-    ClosestPoint best{std::numeric_limits<double>::infinity(), Vector3d::Zero(), -1};
+    return search(query, {std::numeric_limits<double>::infinity(), Vector3d::Zero(), -1});
+}
+
+ClosestPoint TriangleTree::closest_point(const Vector3d& query, int near_face) const {
+    const Triangle& t = triangles_[slot_[near_face]];
+    const Vector3d x = nearest_on_triangle(query, t.corner, t.normal);
+    // The same value the traversal computes for this face, so the minimum is the same.
+    return search(query, {(x - query).squaredNorm(), x, near_face});
+}
+
+ClosestPoint TriangleTree::search(const Vector3d& query, ClosestPoint best) const {
     struct Pending {
         int node;
         double box_d2;
@@ -222,8 +234,13 @@ OneSided sample_distances(const TriangleMesh& from, const TriangleTree& to, cons
         const Vector3d a = from.V.row(from.F(f, 0)).transpose();
         const Vector3d ab = from.V.row(from.F(f, 1)).transpose() - a;
         const Vector3d ac = from.V.row(from.F(f, 2)).transpose() - a;
+        // Each sample's search starts from the face nearest to the previous one.
+        int near_face = -1;
         const auto sample = [&](double v, double w) {
-            const double d = distance(a + v * ab + w * ac);
+            const Vector3d x = a + v * ab + w * ac;
+            const ClosestPoint hit = near_face < 0 ? to.closest_point(x) : to.closest_point(x, near_face);
+            near_face = hit.face;
+            const double d = std::sqrt(hit.squared_distance);
             worst = std::max(worst, d);
             return d;
         };

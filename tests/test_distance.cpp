@@ -139,6 +139,15 @@ TEST_P(TreeQueries, MatchBruteForce) {
         EXPECT_EQ(hit.squared_distance, (hit.point - q).squaredNorm());
         EXPECT_EQ(hit.point, closest_point_on_triangle(q, corner(mesh, hit.face, 0), corner(mesh, hit.face, 1),
                                                        corner(mesh, hit.face, 2)));
+        // From any face to start at: the same squared distance, bit for bit (what keeps the
+        // Hausdorff samples deterministic), and a point of the face found.
+        const int near_face = static_cast<int>(rng() % static_cast<unsigned>(mesh.num_faces()));
+        const ClosestPoint from_near = tree.closest_point(q, near_face);
+        EXPECT_EQ(from_near.squared_distance, hit.squared_distance) << "query " << q.transpose() << ", face " << near_face;
+        EXPECT_EQ(from_near.point, closest_point_on_triangle(q, corner(mesh, from_near.face, 0),
+                                                             corner(mesh, from_near.face, 1),
+                                                             corner(mesh, from_near.face, 2)));
+        EXPECT_EQ(tree.closest_point(q, hit.face).squared_distance, hit.squared_distance);
     }
 }
 

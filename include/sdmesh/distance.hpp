@@ -44,6 +44,11 @@ public:
 
     /// The nearest point of the mesh's surface to `query`; on ties, the face met first.
     [[nodiscard]] ClosestPoint closest_point(const Eigen::Vector3d& query) const;
+    /// The same squared distance, found faster when the nearest point is on or near face
+    /// `near_face` (e.g. the answer for a nearby query): the search starts from that face's
+    /// distance. On ties the face (and point) may differ from closest_point(query)'s.
+    /// \pre near_face in [0, num_faces()).
+    [[nodiscard]] ClosestPoint closest_point(const Eigen::Vector3d& query, int near_face) const;
 
     /// Bounding box of the mesh's faces (unreferenced vertices excluded).
     [[nodiscard]] const Eigen::AlignedBox3d& bounds() const { return nodes_.front().box; }
@@ -64,10 +69,13 @@ private:
     };
 
     int build(std::vector<int>& order, const std::vector<Eigen::Vector3d>& centroid, int begin, int end);
+    // The nearest point of the faces that are nearer than `best`, else best.
+    [[nodiscard]] ClosestPoint search(const Eigen::Vector3d& query, ClosestPoint best) const;
 
     std::vector<Node> nodes_;
     std::vector<Triangle> triangles_;  // in leaf order
     std::vector<int> face_;            // face_[i]: the mesh face of triangles_[i]
+    std::vector<int> slot_;            // slot_[f]: the index in triangles_ of mesh face f
 };
 
 /// How densely hausdorff_distance samples each mesh.

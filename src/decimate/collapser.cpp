@@ -224,6 +224,7 @@ bool Collapser::topology_allows(int p, int q) {
             const double wa = distance(mesh_.P[s.w], mesh_.P[s.a]), wb = distance(mesh_.P[s.w], mesh_.P[s.b]);
             s.across_area4 = 4.0 * triangle_area(s.ab, wa, wb);
             s.across_cosine = cosine_numerator(s.ab, wa, wb);
+            s.across_sides = wa + wb;
         }
     }
     return !star_.empty();
@@ -254,11 +255,10 @@ void Collapser::allowable_region(int p, int q, std::vector<HalfSpace>& region) c
             if (options_.boundary == BoundaryPolicy::free) continue;
         } else {
             // tan(γ/2) = 4·area / ((wa + wb)² - ab²).
-            const double l = ab.norm(), wa = distance(mesh_.P[s.w], a), wb = distance(mesh_.P[s.w], b);
-            radius_factor = std::max(1.0, 4 * triangle_area(l, wa, wb) / ((wa + wb - l) * (wa + wb + l)));
+            radius_factor = std::max(1.0, s.across_area4 / ((s.across_sides - s.ab) * (s.across_sides + s.ab)));
         }
         const Vec3 mid = 0.5 * (a + b);
-        const Vec3 unit_ab = ab.normalized();
+        const Vec3 unit_ab = ab / s.ab;
         Vec3 toward = inside - mid;
         toward -= toward.dot(unit_ab) * unit_ab;
         if (!(toward.norm() > 0) || !std::isfinite(radius_factor)) {
@@ -266,7 +266,7 @@ void Collapser::allowable_region(int p, int q, std::vector<HalfSpace>& region) c
             continue;
         }
         toward.normalize();
-        region.push_back({toward, toward.dot(mid) + 0.5 * ab.norm() * radius_factor});
+        region.push_back({toward, toward.dot(mid) + 0.5 * s.ab * radius_factor});
     }
 }
 

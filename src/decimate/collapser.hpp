@@ -80,10 +80,10 @@ private:
         int after = -1;   // the star face (v, b, d) sharing spoke v-b, -1 if that spoke is on the boundary
         int across = -1;  // the face on the other side of a-b, -1 on the boundary
         int w = -1;       // its vertex opposite a-b
-        // What the checks of every placement share: the old normal, |ab| and the angle at w as
-        // 4·area and cosine numerator of (a, b, w).
+        // What the checks and the allowable region of every placement share: the old normal, |ab|,
+        // the angle at w as 4·area and cosine numerator of (a, b, w), and |wa| + |wb|.
         Vec3 normal = Vec3::Zero();
-        double ab = 0, across_area4 = 0, across_cosine = 0;
+        double ab = 0, across_area4 = 0, across_cosine = 0, across_sides = 0;
     };
 
     // Per star face and placement x: |xa|, |xb|, and the triangle (x, a, b) as 4·area and the
