@@ -11,7 +11,9 @@
 //  - v lies in the allowable region: the linearised spoke and link constraints of §4; v is the
 //    quadric optimum inside it (on the edge for a boundary edge, at the boundary vertex when one
 //    end is on the boundary), and then every spoke and link edge passes the exact LD test of
-//    delaunay.hpp (boundary edges under the chosen policy);
+//    delaunay.hpp (boundary edges under the chosen policy) — or, without max_error, fails it
+//    only inside a plane, where edge flips that move nothing make every edge around LD (so
+//    that vertices inside the planes of CAD or subdivided meshes can go at no cost);
 //  - no face of the new star flips its normal or becomes degenerate;
 //  - with max_error > 0, the two-sided distance output <-> input stays within max_error·diagonal
 //    at the points the report's Hausdorff measurement samples (vertices, edge midpoints, centroids
@@ -20,7 +22,8 @@
 // When no allowable collapse is left before the target, decimation stops with status stalled.
 // Large meshes (options.halves_from_vertices) are decimated in two halves of space side by side
 // for most of the way, each in its own cheapest-first order up to a common cost threshold at a
-// time; the seam between them and the last collapses before each stop follow one global order.
+// time, the seam between them after each step up to the same threshold; the last collapses
+// before each stop follow one global order.
 //
 //   const auto result = sdmesh::decimate(mesh, {.target_ratio = 0.1, .max_error = 0.01});
 //   if (result.report.status == sdmesh::DecimateStatus::reached_target) write_mesh("out.obj", result.mesh);

@@ -63,14 +63,18 @@ void Collapser::append_keys(std::vector<double>& out) const {
     for (const Candidate& c : queue_) out.push_back(c.key);
 }
 
+void Collapser::hand_over_to(Collapser& to) {
+    for (const auto& [u, w] : handed_over_)
+        if (mesh_.alive[u] && mesh_.alive[w] && mesh_.adjacent(u, w)) to.push(u, w);
+    handed_over_.clear();
+}
+
 void Collapser::move_all_to(Collapser& to) {
     for (const Candidate& c : queue_) to.enqueue(c, c.checked >= 0 ? &checked_[c.checked] : nullptr);
     queue_.clear();
     checked_.clear();
     free_checked_.clear();
-    for (const auto& [u, w] : handed_over_)
-        if (mesh_.alive[u] && mesh_.alive[w] && mesh_.adjacent(u, w)) to.push(u, w);
-    handed_over_.clear();
+    hand_over_to(to);
     to.deferred_.insert(to.deferred_.end(), deferred_.begin(), deferred_.end());
     deferred_.clear();
     to.round_open_ = true;
@@ -135,6 +139,7 @@ void Collapser::step() {
     }
     const auto [keep, drop] = mesh_.survivor(top.u, top.w);
     if (!topology_allows(keep, drop)) {
+        if (shared_.empty()) return;  // the edge was flipped away since it was queued
         count_rejection(Verdict::topology);
         refuse(top.u, top.w);
         return;
@@ -150,6 +155,10 @@ void Collapser::step() {
     const bool unchanged = checked && untouched_since(keep, drop, checked->clock);
     if (unchanged) x = checked->x;
     const Verdict verdict = unchanged ? check(keep, drop, x) : evaluate(keep, drop, x, cost);
+    if (verdict == Verdict::outside_half) {
+        handed_over_.emplace_back(top.u, top.w);
+        return;
+    }
     if (verdict != Verdict::accepted) {
         count_rejection(verdict);
         refuse(top.u, top.w);
@@ -395,6 +404,7 @@ double Collapser::collapse_cost(const Quadric& quadric, int p, int q, const Vec3
 // The exact checks of a collapse of q into p at x: normals, then LD of every spoke and link
 // edge, then the error bound.
 Collapser::Verdict Collapser::check(int p, int q, const Vec3& x) {
+    flips_needed_ = false;
     const int n = static_cast<int>(star_.size());
     std::vector<StarTriangle>& t = star_triangles_;
     t.resize(star_.size());
@@ -416,6 +426,7 @@ Collapser::Verdict Collapser::check(int p, int q, const Vec3& x) {
     }
     const double tol = options_.tolerance;
     const bool strict = options_.boundary == BoundaryPolicy::strict;
+    const std::vector<Vec3>& P = mesh_.P;
     const auto obtuse = [&](double area4, double cosine) { return strict && boundary_margin_scaled(area4, cosine) < -tol; };
     for (int i = 0; i < n; ++i) {
         const StarFace& s = star_[i];
@@ -425,7 +436,7 @@ Collapser::Verdict Collapser::check(int p, int q, const Vec3& x) {
         if (s.before >= 0) {
             const StarTriangle& tc = t[s.before];
             if (!is_locally_delaunay_scaled(ti.area4, ti.cosine_b, tc.area4, tc.cosine_a, tan_tolerance_))
-                return Verdict::not_delaunay;
+                return resolve_by_flips(p, q, x, x, P[s.a], P[s.b], P[star_[s.before].a]);
         } else if (obtuse(ti.area4, ti.cosine_b)) {
             return Verdict::not_delaunay;
         }
@@ -437,10 +448,26 @@ Collapser::Verdict Collapser::check(int p, int q, const Vec3& x) {
             continue;
         }
         if (!is_locally_delaunay_scaled(ti.area4, ti.cosine_x, s.across_area4, s.across_cosine, tan_tolerance_))
-            return Verdict::not_delaunay;
+            return resolve_by_flips(p, q, x, P[s.a], P[s.b], x, P[s.w]);
     }
     if (options_.max_error > 0 && !within_error(p, q, x)) return Verdict::max_error;
     return Verdict::accepted;
+}
+
+// An edge of the new star failed the LD test; its faces are (a, b, c) and (b, a, d). Accepted
+// when it lies inside a plane and flips there make every edge around LD (flat_flips.hpp). The
+// error bound follows the star's faces only, so with one there are no flips.
+Collapser::Verdict Collapser::resolve_by_flips(int p, int q, const Vec3& x, const Vec3& a, const Vec3& b,
+                                               const Vec3& c, const Vec3& d) {
+    if (options_.max_error > 0 || !inside_a_plane(a, b, c, d)) return Verdict::not_delaunay;
+    star_faces_.clear();
+    for (const StarFace& s : star_) star_faces_.push_back(s.face);
+    switch (flat_flips_.run(mesh_, p, q, x, star_faces_, shared_, options_.boundary, options_.tolerance, half_)) {
+        case FlatFlips::Outcome::delaunay: flips_needed_ = true; return Verdict::accepted;
+        case FlatFlips::Outcome::outside_half: return Verdict::outside_half;
+        case FlatFlips::Outcome::not_delaunay: break;
+    }
+    return Verdict::not_delaunay;
 }
 
 bool Collapser::star_owned(int p, int q) const {
@@ -464,6 +491,7 @@ Collapser::Verdict Collapser::evaluate(int p, int q, Vec3& x, double& cost) {
             cost = collapse_cost(quadric, p, q, candidate);
             return v;
         }
+        if (v == Verdict::outside_half) return v;
         if (!reason || v == Verdict::max_error) reason = v;
     }
     return *reason;
@@ -475,7 +503,8 @@ void Collapser::count_rejection(Verdict v) {
         case Verdict::not_delaunay: ++rejected_.not_delaunay; break;
         case Verdict::normal_flip: ++rejected_.normal_flip; break;
         case Verdict::max_error: ++rejected_.max_error; break;
-        case Verdict::accepted: break;
+        case Verdict::accepted:
+        case Verdict::outside_half: break;
     }
 }
 
@@ -518,22 +547,38 @@ void Collapser::collapse(int p, int q, const Vec3& x) {
     mesh_.P[p] = x;
     mesh_.quadric[p] = mesh_.quadric[p] + mesh_.quadric[q];
     ++mesh_.version[p];
+    changed_.clear();
+    flipped_in_.clear();
+    flipped_out_.clear();
+    if (flips_needed_) flat_flips_.apply(mesh_, flipped_in_, flipped_out_, changed_);
     mesh_.neighbours(p, ring_);
     const std::vector<int>& ring = ring_;
     ++collapses_;
     ++clock_;
     mesh_.touched[p] = clock_;
     for (int a : ring) mesh_.touched[a] = clock_;
+    for (int a : changed_) mesh_.touched[a] = clock_;
     // The whole mesh's collapser may join faces of the two halves; a half's cannot.
     if (half_ < 0) {
         mesh_.update_owner(p);
         for (int a : ring) mesh_.update_owner(a);
+        for (int a : changed_) mesh_.update_owner(a);
     }
     for (int a : ring) push(std::min(p, a), std::max(p, a));
+    for (const auto& [c, d] : flipped_in_)
+        if (c != p && d != p) push(c, d);
     // Collapses refused next to the changed star may be allowed now: retried at once (they
     // keep the greedy order), a few times; after that they wait for the next round.
     mesh_.refused[q].clear();
     mesh_.refused[p].clear();  // its edges are all queued afresh
+    // Flips may have taken vertices out of the ring: their refusals of p's edges go too, and
+    // those of the edges flipped away.
+    for (int a : changed_)
+        std::erase_if(mesh_.refused[a], [&](const Refusal& r) { return !mesh_.alive[r.other] || r.other == p; });
+    for (const auto& [a, b] : flipped_out_) {
+        std::erase_if(mesh_.refused[a], [&](const Refusal& r) { return r.other == b; });
+        std::erase_if(mesh_.refused[b], [&](const Refusal& r) { return r.other == a; });
+    }
     const unsigned in_ring = ++stamp_;
     for (int a : ring) mark_[a] = in_ring;
     for (int a : ring) {

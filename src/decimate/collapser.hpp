@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "decimate/flat_flips.hpp"
 #include "decimate/mesh_state.hpp"
 #include "sdmesh/decimate.hpp"
 
@@ -29,7 +30,8 @@ public:
     [[nodiscard]] size_t queued() const { return queue_.size(); }
 
     // The clock numbers collapses for MeshState::touched. Collapsers that take turns on the same
-    // vertices are set to the latest clock of all before each turn.
+    // vertices are set to the latest clock of all before each turn; the halves' collapsers, side
+    // by side, touch different vertices.
     [[nodiscard]] long long clock() const { return clock_; }
     void set_clock(long long clock) { clock_ = clock; }
 
@@ -48,6 +50,8 @@ public:
     /// The keys queued, appended to `out`.
     void append_keys(std::vector<double>& out) const;
 
+    /// Queues the collapses this half's collapser handed over with `to`.
+    void hand_over_to(Collapser& to);
     /// Moves everything queued, handed over or deferred to `to`.
     void move_all_to(Collapser& to);
     /// Moves the queued collapses of edges whose ends `to`'s half owns to `to`.
@@ -102,7 +106,8 @@ private:
     // How the new vertex of a collapse may move.
     enum class Placement { free, on_edge, fixed };
 
-    enum class Verdict { accepted, topology, not_delaunay, normal_flip, max_error };
+    // outside_half: only flips beyond the half would make the collapse allowable.
+    enum class Verdict { accepted, topology, not_delaunay, normal_flip, max_error, outside_half };
 
     void step();
     void enqueue(const Candidate& c, const Checked* checked);
@@ -118,6 +123,7 @@ private:
     void placements(int p, int q, const Quadric& quadric);
     double collapse_cost(const Quadric& quadric, int p, int q, const Vec3& x) const;
     Verdict check(int p, int q, const Vec3& x);
+    Verdict resolve_by_flips(int p, int q, const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
     Verdict evaluate(int p, int q, Vec3& x, double& cost);
     void count_rejection(Verdict v);
     void collapse(int p, int q, const Vec3& x);
@@ -153,6 +159,10 @@ private:
     std::vector<unsigned> mark_;  // vertex marks of the link condition, compared with stamp_
     std::vector<int> slot_;       // per vertex marked in mark_: a star face index
     unsigned stamp_ = 0;
+    FlatFlips flat_flips_;
+    bool flips_needed_ = false;  // the last accepted check needs flat_flips_
+    std::vector<int> star_faces_, changed_;
+    std::vector<std::pair<int, int>> flipped_in_, flipped_out_;  // edges the flips made and removed
     std::vector<std::pair<int, int>> rehomed_;  // of the error bound
     std::vector<Vec3> samples_;
 };

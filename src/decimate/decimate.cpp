@@ -65,10 +65,8 @@ SpatialOrder spatial_order(const TriangleMesh& mesh) {
     return out;
 }
 
-// The collapses a half's collapsers leave to the whole mesh's before each stop: the seam's
-// vertices (which only the whole mesh's collapser may remove) and a little more, so that the
-// last collapses before a stop follow one global order.
-long long whole_mesh_share(long long seam_vertices, long long to_stop) { return seam_vertices + to_stop / 64; }
+// The last 1/kGlobalShare of the collapses before each stop follow one global order.
+constexpr long long kGlobalShare = 64;
 
 // Runs work(0) and work(1) side by side.
 template <class Work>
@@ -114,50 +112,56 @@ void queue_every_edge(const MeshState& mesh, bool halves, std::array<Collapser, 
         for (const auto& [u, w] : edges) whole.push(u, w);
 }
 
-// Collapses in the two halves side by side until whole_mesh_share() is left before `stop`, then
-// hands everything queued to `whole`. In steps: each takes a threshold from the keys queued in
-// both halves, such that `reach` times the collapses left are keyed below it, and each half
+// Sets the three collapsers' clocks to the latest (see Collapser::clock) before one of them runs.
+void sync_clocks(std::array<Collapser, 2>& half, Collapser& whole) {
+    const long long clock = std::max({whole.clock(), half[0].clock(), half[1].clock()});
+    whole.set_clock(clock);
+    for (Collapser& c : half) c.set_clock(clock);
+}
+
+// Collapses in the two halves side by side until 1/kGlobalShare of the collapses before `stop`
+// are left, then hands everything queued to `whole`. In steps: each takes a threshold from the
+// keys queued, such that `reach` times the collapses left are keyed below it; each half
 // collapses, in its own cheapest-first order, below the threshold and at most its share (by live
-// vertices) of the collapses left. Most keys are of candidates that a collapse makes stale or
-// that are refused, so `reach` doubles while a step falls short of a quarter of the collapses
-// left. Each half's steps depend only on the half, so the result does not depend on the number
-// of threads.
+// vertices) of the collapses left; then `whole` does the same with the seam's collapses and those
+// the halves handed over, so that the seam keeps up with the halves. Most keys are of candidates
+// that a collapse makes stale or that are refused, so `reach` doubles while a step falls short of
+// a quarter of the collapses left. Each half's steps depend only on the half and the seam's on the
+// state the halves leave, so the result does not depend on the number of threads.
 void collapse_in_halves(MeshState& mesh, std::array<Collapser, 2>& half, Collapser& whole, long long stop,
                         bool progress) {
-    // The seam does not change while the halves collapse.
-    std::array<long long, 2> live_in{0, 0};
-    long long seam = 0;
-    for (int v = 0; v < static_cast<int>(mesh.alive.size()); ++v)
-        if (mesh.alive[v]) ++live_in[mesh.half_of(v)], seam += mesh.owner[v] < 0;
+    const auto total_collapses = [&] { return whole.collapses() + half[0].collapses() + half[1].collapses(); };
     auto last_progress = Clock::now();
     std::vector<double> keys;
     long long reach = 1;
     for (;;) {
+        std::array<long long, 2> live_in{0, 0};
+        for (int v = 0; v < static_cast<int>(mesh.alive.size()); ++v) live_in[mesh.half_of(v)] += mesh.alive[v];
         const long long live = live_in[0] + live_in[1];
-        const long long left = live - stop - whole_mesh_share(seam, live - stop);
+        const long long left = live - stop - (live - stop) / kGlobalShare;
         keys.clear();
-        for (const Collapser& c : half) c.append_keys(keys);
+        for (const Collapser* c : {&half[0], &half[1], &whole}) c->append_keys(keys);
         if (left <= 0 || keys.empty()) break;
         const auto kth = keys.begin() + std::min(static_cast<long long>(keys.size()) - 1, reach * left);
         std::nth_element(keys.begin(), kth, keys.end());
         const double threshold = *kth;
-        const std::array<long long, 2> before{half[0].collapses(), half[1].collapses()};
+        const long long before = total_collapses();
+        sync_clocks(half, whole);
         on_both_halves([&](int h) { half[h].collapse_below(threshold, left * live_in[h] / live); });
-        long long done = 0;
-        for (int h = 0; h < 2; ++h) {
-            live_in[h] -= half[h].collapses() - before[h];
-            done += half[h].collapses() - before[h];
-        }
+        for (Collapser& c : half) c.hand_over_to(whole);
+        sync_clocks(half, whole);
+        whole.collapse_below(threshold, left - (total_collapses() - before));
+        const long long done = total_collapses() - before;
         if (done == 0) break;
         if (4 * done < left) reach *= 2;
         if (progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
             last_progress = Clock::now();
             std::fprintf(stderr, "decimate: %lld vertices (in two halves), %zu collapses queued\n",
-                         mesh.live_vertices.load(), half[0].queued() + half[1].queued());
+                         mesh.live_vertices.load(), half[0].queued() + half[1].queued() + whole.queued());
         }
     }
     for (Collapser& c : half) c.move_all_to(whole);
-    whole.set_clock(std::max({whole.clock(), half[0].clock(), half[1].clock()}));
+    sync_clocks(half, whole);
 }
 
 // Collapses to each level and then to the target (see collapse_in_halves with halves).
@@ -177,10 +181,7 @@ void collapse_to_stops(MeshState& mesh, const DecimateOptions& options, bool hal
         if (i + 1 == stops.size()) break;
         result.levels.push_back(mesh.result(input_vertex));
         if (halves)
-            for (Collapser& c : half) {
-                whole.move_owned_to(c);
-                c.set_clock(whole.clock());
-            }
+            for (Collapser& c : half) whole.move_owned_to(c);
     }
     DecimateReport& report = result.report;
     for (const Collapser* c : {&whole, &half[0], &half[1]}) {
