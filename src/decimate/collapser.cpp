@@ -575,7 +575,8 @@ void Collapser::collapse(int p, int q, const Vec3& x) {
     // those of the edges flipped away.
     for (int a : changed_)
         std::erase_if(mesh_.refused[a], [&](const Refusal& r) { return !mesh_.alive[r.other] || r.other == p; });
-    for (const auto& [a, b] : flipped_out_) {
+    for (const std::pair<int, int>& edge : flipped_out_) {
+        const int a = edge.first, b = edge.second;  // not a structured binding: clang 14 cannot capture those
         std::erase_if(mesh_.refused[a], [&](const Refusal& r) { return r.other == b; });
         std::erase_if(mesh_.refused[b], [&](const Refusal& r) { return r.other == a; });
     }
