@@ -46,6 +46,7 @@ public:
         for (int v = 0; v < mesh.num_vertices(); ++v) P_[v] = mesh.V.row(v).transpose();
         input_edge_.resize(static_cast<size_t>(mesh_.num_edges()));
         for (int e = 0; e < mesh_.num_edges(); ++e) input_edge_[e] = e;
+        in_plane_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
         input_length_.resize(static_cast<size_t>(mesh_.num_edges()));
         for (int e = 0; e < mesh_.num_edges(); ++e) {
             const int h = mesh_.halfedge(e);
@@ -135,8 +136,10 @@ private:
         return is_locally_delaunay(l, dist(k.a, k.r), dist(k.b, k.r), dist(k.a, k.s), dist(k.b, k.s), options_.tolerance);
     }
 
-    // Interior edge whose face normals differ by at most `angle` radians.
+    // Interior edge known to lie inside a plane, or whose face normals differ by at most `angle`
+    // radians.
     bool is_flat(int e, double angle) const {
+        if (in_plane_[e]) return true;
         const Hinge k = hinge(e);
         if (k.s < 0) return false;
         const Eigen::Vector3d n1 = (P_[k.b] - P_[k.a]).cross(P_[k.r] - P_[k.a]);
@@ -162,9 +165,15 @@ private:
         const int outer[4] = {mesh_.edge(HalfedgeMesh::next(k.h)), mesh_.edge(HalfedgeMesh::prev(k.h)),
                               mesh_.edge(HalfedgeMesh::next(mesh_.twin(k.h))),
                               mesh_.edge(HalfedgeMesh::prev(mesh_.twin(k.h)))};
+        const bool planar_quad = is_flat(e, options_.coplanar_tolerance);
         mesh_.flip(e);
         input_edge_[e] = -1;  // the new diagonal crosses the input faces
-        for (int o : outer) push(o);
+        in_plane_[e] = planar_quad;
+        for (int o : outer) {
+            // A hybrid flip across a fold puts the outer sides next to faces of another plane.
+            if (!planar_quad) in_plane_[o] = 0;
+            push(o);
+        }
     }
 
     // Distance from a at which to split the edge a-b (length l) of hinge k.
@@ -300,9 +309,16 @@ private:
         }
         mesh_.split(e);
         P_.push_back(x);
-        // The other half lies on the same input edge as e; the spokes inside faces.
+        // The other half lies on the same input edge as e; the spokes inside faces, so they are
+        // flat whatever the rounding of x says (a spoke taken for a fold would be split, with
+        // a vertex inside the face, and the next spokes are as noisy: far from the origin that
+        // ran away to the vertex budget).
         input_edge_.push_back(input_edge_[e]);
-        while (static_cast<int>(input_edge_.size()) < mesh_.num_edges()) input_edge_.push_back(-1);
+        in_plane_.push_back(in_plane_[e]);
+        while (static_cast<int>(input_edge_.size()) < mesh_.num_edges()) {
+            input_edge_.push_back(-1);
+            in_plane_.push_back(1);
+        }
         queued_.resize(static_cast<size_t>(mesh_.num_edges()), 0);
         push(e);
         for (int n = first_new_edge; n < mesh_.num_edges(); ++n) push(n);
@@ -341,6 +357,8 @@ private:
     double shell_unit_ = 1;
     std::vector<Eigen::Vector3d> P_;
     std::vector<int> input_edge_;  // the input edge an edge lies on, -1 inside an input face
+    // Edges whose two faces lie in one plane by construction (within the coplanar tolerance).
+    std::vector<char> in_plane_;
     std::vector<double> input_length_;  // by input edge
     std::vector<char> queued_;
     std::vector<int> flat_queue_;
