@@ -1,18 +1,22 @@
 #include "sdmesh/convert.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <limits>
 #include <numbers>
 #include <queue>
+#include <span>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "halfedge.hpp"
+#include "union_find.hpp"
 #include "sdmesh/distance.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
@@ -33,6 +37,24 @@ struct Hinge {
     int h, a, b, r, s;
 };
 
+// Items grouped by key in [0, keys), each group in the order given (counting sort).
+class Buckets {
+public:
+    Buckets(int keys, const std::vector<std::pair<int, int>>& key_item) : start_(static_cast<size_t>(keys) + 1, 0) {
+        for (const auto& [key, item] : key_item) ++start_[key + 1];
+        for (int k = 0; k < keys; ++k) start_[k + 1] += start_[k];
+        items_.resize(key_item.size());
+        std::vector<int> next(start_.begin(), start_.end() - 1);
+        for (const auto& [key, item] : key_item) items_[next[key]++] = item;
+    }
+    std::span<const int> operator[](int key) const {
+        return {items_.data() + start_[key], static_cast<size_t>(start_[key + 1] - start_[key])};
+    }
+
+private:
+    std::vector<int> start_, items_;
+};
+
 // Lawson-style conversion on a HalfedgeMesh with positions; one instance per convert() call.
 class Converter {
 public:
@@ -48,10 +70,17 @@ public:
         for (int e = 0; e < mesh_.num_edges(); ++e) input_edge_[e] = e;
         in_plane_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
         input_length_.resize(static_cast<size_t>(mesh_.num_edges()));
+        input_ends_.resize(static_cast<size_t>(mesh_.num_edges()));
+        input_faces_.resize(static_cast<size_t>(mesh_.num_edges()));
+        input_flat_.resize(static_cast<size_t>(mesh_.num_edges()));
         for (int e = 0; e < mesh_.num_edges(); ++e) {
-            const int h = mesh_.halfedge(e);
+            const int h = mesh_.halfedge(e), t = mesh_.twin(h);
             input_length_[e] = distance(P_[mesh_.tail(h)], P_[mesh_.head(h)]);
+            input_ends_[e] = {mesh_.tail(h), mesh_.head(h)};
+            input_faces_[e] = {HalfedgeMesh::face(h), t < 0 ? -1 : HalfedgeMesh::face(t)};
+            input_flat_[e] = is_flat(e, options.coplanar_tolerance);
         }
+        input_faces_count_ = mesh_.num_faces();
         queued_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
         // An empty mesh has no bounding box (and no edge to split).
         const double diagonal =
@@ -69,16 +98,40 @@ public:
             if (!is_flat(e, options_.coplanar_tolerance)) ++report.input_nonflat_non_delaunay_edges;
             push(e);
         }
-        const long long budget = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
-        const long long flip_budget =
-            options_.max_flips > 0 ? options_.max_flips : 100LL * mesh_.num_edges() + 1'000'000;
+        vertex_budget_ = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
+        flip_budget_ = options_.max_flips > 0 ? options_.max_flips : 100LL * mesh_.num_edges() + 1'000'000;
+        drain(report);
+        if (options_.method == ConvertMethod::split && report.status == ConvertStatus::certified &&
+            report.vertices_inside_faces == 0)
+            remove_unneeded_points(report);
+    }
+
+    TriangleMesh result() const {
+        // Input vertices keep their ids; points removed again leave no gap.
+        std::vector<int> new_id(P_.size(), -1);
+        int kept = 0;
+        for (size_t v = 0; v < P_.size(); ++v)
+            if (v < static_cast<size_t>(input_vertices_) || !removed_[v - input_vertices_]) new_id[v] = kept++;
+        TriangleMesh out;
+        out.V.resize(kept, 3);
+        for (size_t v = 0; v < P_.size(); ++v)
+            if (new_id[v] >= 0) out.V.row(new_id[v]) = P_[v].transpose();
+        out.F = mesh_.faces();
+        for (int f = 0; f < out.F.rows(); ++f)
+            for (int k = 0; k < 3; ++k) out.F(f, k) = new_id[out.F(f, k)];
+        return out;
+    }
+
+private:
+    // Pops until the queues are empty or a budget is reached.
+    void drain(ConversionReport& report) {
         auto last_progress = Clock::now();
         while (true) {
             const int e = pop();
             if (e < 0) break;
-            if (is_delaunay(e)) continue;
+            if (mesh_.is_removed_edge(e) || is_delaunay(e)) continue;
             if (is_flat(e, flat_angle_) && is_flippable(e)) {
-                if (report.flips >= flip_budget) {
+                if (report.flips >= flip_budget_) {
                     report.status = ConvertStatus::budget_exhausted;
                     break;
                 }
@@ -86,7 +139,7 @@ public:
                 ++report.flips;
             } else if (options_.method == ConvertMethod::flip) {
                 continue;  // left for the final certificate to count
-            } else if (mesh_.num_vertices() >= budget) {
+            } else if (mesh_.num_vertices() >= vertex_budget_) {
                 report.status = ConvertStatus::budget_exhausted;
                 break;
             } else {
@@ -102,15 +155,153 @@ public:
         }
     }
 
-    TriangleMesh result() const {
-        TriangleMesh out;
-        out.V.resize(static_cast<Eigen::Index>(P_.size()), 3);
-        for (size_t v = 0; v < P_.size(); ++v) out.V.row(static_cast<Eigen::Index>(v)) = P_[v].transpose();
-        out.F = mesh_.faces();
-        return out;
+    // Split points that later points made unnecessary go again. A point x between p and q on a
+    // non-flat input edge may go when the piece p-q would be locally Delaunay against every
+    // point of the planes on its two sides (the apex of a piece in a plane's Delaunay
+    // triangulation is one of them); removing a point only shrinks the angles that the other
+    // pieces see, so they stay locally Delaunay. x's spokes are flipped away until one is left
+    // on each side, the split is undone, and Lawson flips restore the planes' triangulations;
+    // anything they left non-Delaunay would be split again by the same loop.
+    void remove_unneeded_points(ConversionReport& report) {
+        // Planes: input faces joined across flat input edges, with the input edges around them.
+        UnionFind planes(input_faces_count_);
+        const int input_edges = static_cast<int>(input_length_.size());
+        for (int e = 0; e < input_edges; ++e)
+            if (input_flat_[e]) planes.unite(input_faces_[e][0], input_faces_[e][1]);
+        std::vector<std::pair<int, int>> plane_edge;  // (plane, input edge)
+        for (int e = 0; e < input_edges; ++e) {
+            const auto [f, g] = input_faces_[e];
+            plane_edge.emplace_back(planes.find(f), e);
+            if (g >= 0 && !input_flat_[e]) plane_edge.emplace_back(planes.find(g), e);
+        }
+        const Buckets plane_edges(input_faces_count_, plane_edge);
+        // The points on each input edge, ends included (removed ones are skipped when read).
+        std::vector<std::pair<int, int>> edge_point;  // (input edge, point)
+        for (int e = 0; e < input_edges; ++e) {
+            edge_point.emplace_back(e, input_ends_[e][0]);
+            edge_point.emplace_back(e, input_ends_[e][1]);
+        }
+        for (int v = input_vertices_; v < static_cast<int>(P_.size()); ++v)
+            if (vertex_input_edge_[v - input_vertices_] >= 0) edge_point.emplace_back(vertex_input_edge_[v - input_vertices_], v);
+        const Buckets on_edge(input_edges, edge_point);
+        const int split_points = static_cast<int>(P_.size());
+
+        // Cotangent of the widest angle under which a point of the plane of face f sees p-q (the
+        // points on edge e itself are on its line).
+        auto apex_cotangent = [&](int f, int p, int q, int e) {
+            double smallest = std::numeric_limits<double>::infinity();
+            auto consider = [&](int y) {
+                if (y == p || y == q || (y >= input_vertices_ && removed_[y - input_vertices_])) return;
+                const Eigen::Vector3d a = P_[p] - P_[y], b = P_[q] - P_[y];
+                const double sine = a.cross(b).norm();
+                if (sine > 0) smallest = std::min(smallest, a.dot(b) / sine);
+            };
+            for (const int other : plane_edges[planes.find(f)])
+                if (other != e) {
+                    for (const int y : on_edge[other]) consider(y);
+                    for (int y = split_points; y < static_cast<int>(P_.size()); ++y)  // added while removing
+                        if (vertex_input_edge_[y - input_vertices_] == other) consider(y);
+                }
+            return smallest;
+        };
+        // Every split point is tried; a removal makes the points of its two planes worth trying
+        // again, so that at the end no point can go alone.
+        std::deque<int> to_try;
+        std::vector<char> waiting(static_cast<size_t>(split_points - input_vertices_), 0);
+        auto try_later = [&](int x) {
+            if (x < input_vertices_ || x >= split_points || waiting[x - input_vertices_] || removed_[x - input_vertices_])
+                return;
+            waiting[x - input_vertices_] = 1;
+            to_try.push_back(x);
+        };
+        for (int x = input_vertices_; x < split_points; ++x) try_later(x);
+        while (!to_try.empty() && report.status == ConvertStatus::certified) {
+            const int x = to_try.front();
+            to_try.pop_front();
+            waiting[x - input_vertices_] = 0;
+            const int e = vertex_input_edge_[x - input_vertices_];
+            if (e < 0 || input_flat_[e] || removed_[x - input_vertices_]) continue;
+            const auto [f, g] = input_faces_[e];
+            const int p = other_end(pieces_[x - input_vertices_][0], x), q = other_end(pieces_[x - input_vertices_][1], x);
+            // Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary.
+            const double margin = g >= 0 ? apex_cotangent(f, p, q, e) + apex_cotangent(g, p, q, e)
+                                 : options_.boundary == BoundaryPolicy::strict ? apex_cotangent(f, p, q, e)
+                                                                              : 0.0;
+            if (!(margin >= 0)) continue;
+            if (undo_split(x, report)) {
+                ++report.removed_points;
+                for (const int face : {f, g})
+                    if (face >= 0)
+                        for (const int other : plane_edges[planes.find(face)])
+                            for (const int y : on_edge[other]) try_later(y);
+            }
+            drain(report);
+        }
+        // Edge ids close up over the removed ones.
+        const std::vector<int> new_edge = mesh_.compact();
+        for (size_t e = 0; e < new_edge.size(); ++e)
+            if (new_edge[e] >= 0) {
+                input_edge_[new_edge[e]] = input_edge_[e];
+                in_plane_[new_edge[e]] = in_plane_[e];
+            }
+        input_edge_.resize(static_cast<size_t>(mesh_.num_edges()));
+        in_plane_.resize(static_cast<size_t>(mesh_.num_edges()));
+        queued_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
     }
 
-private:
+    int other_end(int e, int v) const {
+        const int h = mesh_.halfedge(e);
+        return mesh_.tail(h) == v ? mesh_.head(h) : mesh_.tail(h);
+    }
+    // Split point v's piece `from` became `to`.
+    void repoint_piece(int v, int from, int to) {
+        if (v < input_vertices_) return;
+        for (int& piece : pieces_[v - input_vertices_])
+            if (piece == from) piece = to;
+    }
+
+    // The side of edge e that runs into vertex x, -1 if it has none (a boundary edge).
+    int side_into(int e, int x) const {
+        const int h = mesh_.halfedge(e);
+        return mesh_.head(h) == x ? h : mesh_.twin(h);
+    }
+
+    // Flips the spokes of x on the side of `into` (an edge p-x) until one is left before the
+    // piece x-q; false if none of them can be flipped.
+    bool keep_one_spoke(int into, int x, int q, ConversionReport& report) {
+        while (true) {
+            const int h = side_into(into, x);
+            std::vector<int> spokes;
+            for (int out = HalfedgeMesh::next(h); mesh_.head(out) != q; out = HalfedgeMesh::next(mesh_.twin(out)))
+                spokes.push_back(mesh_.edge(out));
+            if (spokes.size() == 1) return true;
+            const auto flippable = std::find_if(spokes.begin(), spokes.end(),
+                                                [&](int s) { return is_flat(s, flat_angle_) && is_flippable(s); });
+            if (flippable == spokes.end()) return false;
+            flip(*flippable);
+            ++report.flips;
+        }
+    }
+
+    // Removes split point x; false if its spokes could not be reduced to one per side.
+    bool undo_split(int x, ConversionReport& report) {
+        auto [piece, other] = pieces_[x - input_vertices_];
+        if (side_into(piece, x) < 0) std::swap(piece, other);  // on a boundary line
+        const int p = other_end(piece, x), q = other_end(other, x);
+        if (!keep_one_spoke(piece, x, q, report)) return false;
+        if (side_into(other, x) >= 0 && !keep_one_spoke(other, x, p, report)) return false;
+        const int h = side_into(piece, x), t = mesh_.twin(h);
+        mesh_.merge(h);
+        removed_[x - input_vertices_] = 1;
+        repoint_piece(q, other, piece);
+        for (const int side : {h, t}) {
+            if (side < 0) continue;
+            push(mesh_.edge(HalfedgeMesh::next(side)));
+            push(mesh_.edge(HalfedgeMesh::prev(side)));
+        }
+        push(piece);
+        return true;
+    }
     static double flat_angle(const ConvertOptions& o) {
         switch (o.method) {
             case ConvertMethod::flip: return kPi;  // every edge may be flipped
@@ -309,6 +500,8 @@ private:
         }
         mesh_.split(e);
         P_.push_back(x);
+        vertex_input_edge_.push_back(input_edge_[e]);
+        removed_.push_back(0);
         // The other half lies on the same input edge as e; the spokes inside faces, so they are
         // flat whatever the rounding of x says (a spoke taken for a fold would be split, with
         // a vertex inside the face, and the next spokes are as noisy: far from the origin that
@@ -320,6 +513,12 @@ private:
             in_plane_.push_back(1);
         }
         queued_.resize(static_cast<size_t>(mesh_.num_edges()), 0);
+        if (input_edge_[e] >= 0) {  // e keeps the half at a, the new edge the one at b
+            pieces_.push_back({e, first_new_edge});
+            repoint_piece(k.b, e, first_new_edge);
+        } else {
+            pieces_.push_back({-1, -1});
+        }
         push(e);
         for (int n = first_new_edge; n < mesh_.num_edges(); ++n) push(n);
         for (int o : outer) push(o);
@@ -360,6 +559,13 @@ private:
     // Edges whose two faces lie in one plane by construction (within the coplanar tolerance).
     std::vector<char> in_plane_;
     std::vector<double> input_length_;  // by input edge
+    std::vector<std::array<int, 2>> input_ends_, input_faces_;  // by input edge (face -1: boundary)
+    std::vector<char> input_flat_;  // by input edge, at the coplanar tolerance
+    int input_faces_count_ = 0;
+    std::vector<int> vertex_input_edge_;  // by split point: the input edge it lies on, -1 inside a face
+    std::vector<char> removed_;  // by split point: removed again
+    long long vertex_budget_ = 0, flip_budget_ = 0;
+    std::vector<std::array<int, 2>> pieces_;  // by split point on an input edge: its two pieces
     std::vector<char> queued_;
     std::vector<int> flat_queue_;
     std::priority_queue<std::pair<double, int>> physical_queue_;

@@ -110,6 +110,53 @@ int HalfedgeMesh::split(int e) {
     return x;
 }
 
+void HalfedgeMesh::merge(int h) {
+    const int e = edge(h), t = twin(h);
+    // Face (r, p, x) of h takes the side q -> r of (r, x, q) and becomes (r, p, q).
+    const int r_side = twin(next(h));  // r -> x
+    const int removed_face_r = face(r_side), removed_spoke_r = edge(r_side), removed_half = edge(next(r_side));
+    const int q = head(next(r_side));
+    corner_of(prev(h)) = q;
+    move_side(prev(r_side), next(h));
+    face_[removed_face_r].corner[0] = -1;
+    edge_halfedge_[removed_spoke_r] = edge_halfedge_[removed_half] = -1;
+    if (t >= 0) {
+        // Face (s, x, p) of the twin takes the side s -> q of (s, q, x) and becomes (s, q, p).
+        const int s_side = twin(prev(t));  // x -> s
+        const int removed_face_s = face(s_side), removed_spoke_s = edge(s_side);
+        corner_of(next(t)) = q;
+        move_side(next(s_side), prev(t));
+        face_[removed_face_s].corner[0] = -1;
+        edge_halfedge_[removed_spoke_s] = -1;
+    }
+    glue(h, t, e);
+}
+
+std::vector<int> HalfedgeMesh::compact() {
+    std::vector<int> new_face(face_.size(), -1), new_edge(edge_halfedge_.size(), -1);
+    int faces_kept = 0, edges_kept = 0;
+    for (size_t f = 0; f < face_.size(); ++f)
+        if (face_[f].corner[0] >= 0) new_face[f] = faces_kept++;
+    for (size_t e = 0; e < edge_halfedge_.size(); ++e)
+        if (edge_halfedge_[e] >= 0) new_edge[e] = edges_kept++;
+    auto renumbered = [&](int h) { return h < 0 ? -1 : 3 * new_face[h / 3] + h % 3; };
+    // Records only move down, so each is read before its slot is written.
+    for (size_t f = 0; f < face_.size(); ++f) {
+        if (new_face[f] < 0) continue;
+        Face record = face_[f];
+        for (int k = 0; k < 3; ++k) {
+            record.twin[k] = renumbered(record.twin[k]);
+            record.edge[k] = new_edge[record.edge[k]];
+        }
+        face_[new_face[f]] = record;
+    }
+    face_.resize(static_cast<size_t>(faces_kept));
+    for (size_t e = 0; e < edge_halfedge_.size(); ++e)
+        if (new_edge[e] >= 0) edge_halfedge_[new_edge[e]] = renumbered(edge_halfedge_[e]);
+    edge_halfedge_.resize(static_cast<size_t>(edges_kept));
+    return new_edge;
+}
+
 bool HalfedgeMesh::has_edge_between(int c, int v) const {
     // Around the vertex of corner c: the face across the side leaving it (prev) holds the vertex
     // at slot prev(twin); across the side entering it (next), at slot next(twin).

@@ -65,6 +65,20 @@ public:
     /// \returns the new vertex id.
     int split(int e);
 
+    /// Undoes a split: h is the side p -> x of the face (r, p, x), x lies on the straight line
+    /// from p to q, and x's only other neighbours are r and, across the line, s (none on a
+    /// boundary line). The faces of h and of its twin become (r, p, q) and (s, q, p), and edge(h)
+    /// joins p and q; their side lengths are left to the caller. x is left without faces. The
+    /// other two faces and three edges are marked removed until compact().
+    void merge(int h);
+
+    /// True for an edge that merge() removed (until compact()).
+    [[nodiscard]] bool is_removed_edge(int e) const { return edge_halfedge_[e] < 0; }
+
+    /// Drops what merge() removed; the faces and edges left keep their order. Returns the new
+    /// id of every old edge (-1 for a removed one).
+    std::vector<int> compact();
+
     /// True if some edge joins the vertex at corner slot c (= 3f + k) to vertex v: the faces
     /// around that corner are walked through their twins, both ways on a boundary.
     [[nodiscard]] bool has_edge_between(int c, int v) const;

@@ -17,6 +17,7 @@
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/shapes.hpp"
+#include "sdmesh/topology.hpp"
 #include "sdmesh/validate.hpp"
 
 namespace sdmesh {
@@ -105,7 +106,9 @@ TEST_P(Convert, CertifiedAndIdempotent) {
         EXPECT_EQ(cert.negative_cotan_weights, 0);
         EXPECT_EQ(cert.negative_dual_cells, 0);
     }
-    EXPECT_EQ(r.output_vertices, input.num_vertices() + (options.method == ConvertMethod::flip ? 0 : r.splits));
+    EXPECT_EQ(r.output_vertices,
+              input.num_vertices() + (options.method == ConvertMethod::flip ? 0 : r.splits - r.removed_points));
+    if (options.method != ConvertMethod::split) EXPECT_EQ(r.removed_points, 0);
 
     const MeshInfo before = validate(input), after = validate(result.mesh);
     EXPECT_TRUE(after.manifold());
@@ -232,6 +235,63 @@ TEST(ConvertMethods, FarFromTheOriginSplitsOnlyInputEdges) {
                 EXPECT_LE(nearest, 4 * ulp) << name << ": vertex " << v;
             }
         }
+    }
+}
+
+// No split point of the output can go alone: for each, the piece joining its two neighbours on
+// its input edge would see a point of the input faces on its sides under angles summing to more
+// than π (a strict boundary piece: more than π/2). On these meshes no two faces are coplanar, so
+// a piece's apex in its face's Delaunay triangulation is the point that sees it widest.
+TEST(ConvertMethods, NoSplitPointCanGoAlone) {
+    for (const char* name : {"skewed_grid", "small_angles", "bunny"}) {
+        const TriangleMesh input = adversarial(name);
+        const ConversionResult result = convert(input);
+        const ConversionReport& r = result.report;
+        ASSERT_EQ(r.status, ConvertStatus::certified) << name;
+        EXPECT_GT(r.removed_points, 0) << name;
+        const EdgeTable edges = build_edge_table(input.F, input.num_vertices());
+        auto point = [&](int v) -> Eigen::Vector3d { return result.mesh.V.row(v); };
+        // The points on each input edge, ordered along it, ends included.
+        std::vector<std::vector<std::pair<double, int>>> along(edges.num_edges());
+        for (int e = 0; e < edges.num_edges(); ++e)
+            along[e] = {{0.0, edges.E(e, 0)}, {1.0, edges.E(e, 1)}};
+        for (int v = input.num_vertices(); v < result.mesh.num_vertices(); ++v) {
+            int best = -1;
+            double best_distance = std::numeric_limits<double>::infinity(), best_t = 0;
+            for (int e = 0; e < edges.num_edges(); ++e) {
+                const Eigen::Vector3d a = point(edges.E(e, 0)), b = point(edges.E(e, 1));
+                const double t = std::clamp((point(v) - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+                const double d = (a + t * (b - a) - point(v)).norm();
+                if (d < best_distance) best = e, best_distance = d, best_t = t;
+            }
+            along[best].emplace_back(best_t, v);
+        }
+        for (auto& points : along) std::sort(points.begin(), points.end());
+        // Cotangent of the widest angle under which a point of face f off edge e sees p-q.
+        auto apex_cotangent = [&](int f, int e, int p, int q) {
+            double smallest = std::numeric_limits<double>::infinity();
+            for (int k = 0; k < 3; ++k) {
+                const int other = edges.face_edge(f, k);
+                if (other == e) continue;
+                for (const auto& [t, y] : along[other]) {
+                    if (y == p || y == q) continue;
+                    const Eigen::Vector3d a = point(p) - point(y), b = point(q) - point(y);
+                    smallest = std::min(smallest, a.dot(b) / a.cross(b).norm());
+                }
+            }
+            return smallest;
+        };
+        int checked = 0;
+        for (int e = 0; e < edges.num_edges(); ++e)
+            for (size_t i = 1; i + 1 < along[e].size(); ++i) {
+                const int p = along[e][i - 1].second, q = along[e][i + 1].second;
+                const int f = edges.edge_halfedges(e, 0) / 3, g = edges.edge_halfedges(e, 1);
+                const double margin =
+                    g < 0 ? apex_cotangent(f, e, p, q) : apex_cotangent(f, e, p, q) + apex_cotangent(g / 3, e, p, q);
+                EXPECT_LT(margin, 0) << name << ": point " << along[e][i].second << " could go";
+                ++checked;
+            }
+        EXPECT_EQ(checked, result.mesh.num_vertices() - input.num_vertices()) << name;
     }
 }
 

@@ -127,6 +127,43 @@ TEST(HalfedgeMesh, SplitsAddTheRightElements) {
     }
 }
 
+// merge() undoes split(), on interior and boundary edges, in any order once compacted; the edge
+// ids left are the old ones in order.
+TEST(HalfedgeMesh, MergesUndoSplits) {
+    const TriangleMesh grid = make_grid(4, 3);
+    HalfedgeMesh mesh(Triangulation::from_mesh(grid));
+    const auto original = face_set(mesh.faces());
+    const int original_edges = mesh.num_edges();
+    struct Split {
+        int e, p, x;
+    };
+    std::vector<Split> splits;
+    std::mt19937 rng(5);
+    for (int i = 0; i < 30; ++i) {
+        const int e = static_cast<int>(rng() % original_edges);
+        const int p = mesh.tail(mesh.halfedge(e));
+        splits.push_back({e, p, mesh.split(e)});
+    }
+    // Undo the newest first: then each x has its four (boundary: three) neighbours again.
+    Eigen::MatrixX3d V = grid.V;
+    V.conservativeResize(mesh.num_vertices(), 3);
+    for (auto it = splits.rbegin(); it != splits.rend(); ++it) {
+        int h = mesh.halfedge(it->e);
+        if (mesh.head(h) != it->x) h = mesh.twin(h);
+        ASSERT_GE(h, 0);
+        ASSERT_EQ(mesh.tail(h), it->p);
+        mesh.merge(h);
+    }
+    const std::vector<int> new_edge = mesh.compact();
+    EXPECT_EQ(face_set(mesh.faces()), original);
+    ASSERT_EQ(mesh.num_edges(), original_edges);
+    for (int e = 0; e < original_edges; ++e) EXPECT_EQ(new_edge[e], e);
+    for (size_t e = original_edges; e < new_edge.size(); ++e) EXPECT_EQ(new_edge[e], -1);
+    V.conservativeResize(grid.num_vertices(), 3);
+    const Triangulation t = checked(mesh, V);
+    EXPECT_EQ(t.E, Triangulation::from_mesh(grid).E);
+}
+
 TEST(HalfedgeMesh, EdgeQueriesWalkTheWholeFan) {
     for (const TriangleMesh& m : {make_icosphere(1), make_grid(4, 4)}) {
         const Triangulation t = Triangulation::from_mesh(m);

@@ -80,6 +80,9 @@ struct ConversionReport {
     long long splits = 0;
     long long unflippable_edges = 0;  ///< flip method: non-LD edges left at the end
     long long vertices_inside_faces = 0;  ///< split points not on an input edge
+    /// split: points removed again at the end, once later points had made them unnecessary
+    /// (output vertices = input vertices + splits - removed_points)
+    long long removed_points = 0;
     ConvertStatus status = ConvertStatus::certified;
     double seconds = 0;
     double hausdorff_rel = 0;  ///< two-sided, relative to the input's bounding-box diagonal

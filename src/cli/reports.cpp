@@ -110,6 +110,7 @@ JsonObject conversion_json(const ConvertOptions& options, const ConversionReport
         .add("splits", r.splits)
         .add("unflippable_edges", r.unflippable_edges)
         .add("vertices_inside_faces", r.vertices_inside_faces)
+        .add("removed_points", r.removed_points)
         .add("status", to_string(r.status))
         .add("seconds", r.seconds)
         .add("hausdorff_rel", r.hausdorff_rel)
