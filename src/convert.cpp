@@ -63,7 +63,8 @@ public:
         : options_(options),
           mesh_(mesh.F, edges.face_edge, edges.edge_halfedges, mesh.num_vertices()),
           input_vertices_(mesh.num_vertices()),
-          flat_angle_(flat_angle(options)) {
+          flat_angle_(flat_angle(options)),
+          coplanar_angle_(options.coplanar_tolerance) {
         P_.resize(static_cast<size_t>(mesh.num_vertices()));
         for (int v = 0; v < mesh.num_vertices(); ++v) P_[v] = mesh.V.row(v).transpose();
         input_edge_.resize(static_cast<size_t>(mesh_.num_edges()));
@@ -78,7 +79,6 @@ public:
             input_length_[e] = distance(P_[mesh_.tail(h)], P_[mesh_.head(h)]);
             input_ends_[e] = {mesh_.tail(h), mesh_.head(h)};
             input_faces_[e] = {HalfedgeMesh::face(h), t < 0 ? -1 : HalfedgeMesh::face(t)};
-            input_flat_[e] = is_flat(e, options.coplanar_tolerance);
         }
         input_faces_count_ = mesh_.num_faces();
         queued_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
@@ -93,9 +93,10 @@ public:
 
     void run(ConversionReport& report) {
         for (int e = 0; e < mesh_.num_edges(); ++e) {
+            input_flat_[e] = is_flat(e, coplanar_angle_);
             if (is_delaunay(e)) continue;
             ++report.input_non_delaunay_edges;
-            if (!is_flat(e, options_.coplanar_tolerance)) ++report.input_nonflat_non_delaunay_edges;
+            if (!input_flat_[e]) ++report.input_nonflat_non_delaunay_edges;
             push(e);
         }
         vertex_budget_ = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
@@ -302,6 +303,12 @@ private:
         push(piece);
         return true;
     }
+    // An angle bound for dihedral tests, with its tangent: below π/2 the test needs no arctangent.
+    struct AngleBound {
+        explicit AngleBound(double radians) : angle(radians), tangent(std::tan(radians)) {}
+        double angle, tangent;
+    };
+
     static double flat_angle(const ConvertOptions& o) {
         switch (o.method) {
             case ConvertMethod::flip: return kPi;  // every edge may be flipped
@@ -327,15 +334,17 @@ private:
         return is_locally_delaunay(l, dist(k.a, k.r), dist(k.b, k.r), dist(k.a, k.s), dist(k.b, k.s), options_.tolerance);
     }
 
-    // Interior edge known to lie inside a plane, or whose face normals differ by at most `angle`
-    // radians.
-    bool is_flat(int e, double angle) const {
+    // Interior edge known to lie inside a plane, or whose face normals differ by at most
+    // `bound` radians.
+    bool is_flat(int e, const AngleBound& bound) const {
         if (in_plane_[e]) return true;
         const Hinge k = hinge(e);
         if (k.s < 0) return false;
         const Eigen::Vector3d n1 = (P_[k.b] - P_[k.a]).cross(P_[k.r] - P_[k.a]);
         const Eigen::Vector3d n2 = (P_[k.a] - P_[k.b]).cross(P_[k.s] - P_[k.b]);
-        return std::atan2(n1.cross(n2).norm(), n1.dot(n2)) <= angle;
+        const double cosine = n1.dot(n2), sine = n1.cross(n2).norm();
+        if (bound.angle < kPi / 2) return cosine > 0 && sine <= bound.tangent * cosine;
+        return std::atan2(sine, cosine) <= bound.angle;
     }
 
     // The new edge r-s must not exist already, and the hinge unfolded into the plane must be
@@ -356,7 +365,7 @@ private:
         const int outer[4] = {mesh_.edge(HalfedgeMesh::next(k.h)), mesh_.edge(HalfedgeMesh::prev(k.h)),
                               mesh_.edge(HalfedgeMesh::next(mesh_.twin(k.h))),
                               mesh_.edge(HalfedgeMesh::prev(mesh_.twin(k.h)))};
-        const bool planar_quad = is_flat(e, options_.coplanar_tolerance);
+        const bool planar_quad = is_flat(e, coplanar_angle_);
         mesh_.flip(e);
         input_edge_[e] = -1;  // the new diagonal crosses the input faces
         in_plane_[e] = planar_quad;
@@ -552,7 +561,7 @@ private:
     const ConvertOptions& options_;
     HalfedgeMesh mesh_;
     int input_vertices_;
-    double flat_angle_;
+    AngleBound flat_angle_, coplanar_angle_;
     double shell_unit_ = 1;
     std::vector<Eigen::Vector3d> P_;
     std::vector<int> input_edge_;  // the input edge an edge lies on, -1 inside an input face

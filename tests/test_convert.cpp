@@ -108,7 +108,9 @@ TEST_P(Convert, CertifiedAndIdempotent) {
     }
     EXPECT_EQ(r.output_vertices,
               input.num_vertices() + (options.method == ConvertMethod::flip ? 0 : r.splits - r.removed_points));
-    if (options.method != ConvertMethod::split) EXPECT_EQ(r.removed_points, 0);
+    if (options.method != ConvertMethod::split) {
+        EXPECT_EQ(r.removed_points, 0);
+    }
 
     const MeshInfo before = validate(input), after = validate(result.mesh);
     EXPECT_TRUE(after.manifold());
