@@ -37,15 +37,19 @@ struct Hinge {
     int h, a, b, r, s;
 };
 
-// Items grouped by key in [0, keys), each group in the order given (counting sort).
+// The items 0..count-1 grouped by key(item) in [0, keys) (-1: left out), each group in
+// increasing order (counting sort).
 class Buckets {
 public:
-    Buckets(int keys, const std::vector<std::pair<int, int>>& key_item) : start_(static_cast<size_t>(keys) + 1, 0) {
-        for (const auto& [key, item] : key_item) ++start_[key + 1];
+    template <class Key>
+    Buckets(int keys, int count, Key key) : start_(static_cast<size_t>(keys) + 1, 0) {
+        for (int i = 0; i < count; ++i)
+            if (key(i) >= 0) ++start_[key(i) + 1];
         for (int k = 0; k < keys; ++k) start_[k + 1] += start_[k];
-        items_.resize(key_item.size());
+        items_.resize(static_cast<size_t>(start_[keys]));
         std::vector<int> next(start_.begin(), start_.end() - 1);
-        for (const auto& [key, item] : key_item) items_[next[key]++] = item;
+        for (int i = 0; i < count; ++i)
+            if (key(i) >= 0) items_[next[key(i)]++] = i;
     }
     std::span<const int> operator[](int key) const {
         return {items_.data() + start_[key], static_cast<size_t>(start_[key + 1] - start_[key])};
@@ -61,6 +65,8 @@ public:
     // \pre `edges` is the edge table of the mesh, which is manifold.
     Converter(const TriangleMesh& mesh, const EdgeTable& edges, const ConvertOptions& options)
         : options_(options),
+          input_(mesh),
+          input_edges_(edges),
           mesh_(mesh.F, edges.face_edge, edges.edge_halfedges, mesh.num_vertices()),
           input_vertices_(mesh.num_vertices()),
           flat_angle_(flat_angle(options)),
@@ -71,16 +77,11 @@ public:
         for (int e = 0; e < mesh_.num_edges(); ++e) input_edge_[e] = e;
         in_plane_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
         input_length_.resize(static_cast<size_t>(mesh_.num_edges()));
-        input_ends_.resize(static_cast<size_t>(mesh_.num_edges()));
-        input_faces_.resize(static_cast<size_t>(mesh_.num_edges()));
         input_flat_.resize(static_cast<size_t>(mesh_.num_edges()));
         for (int e = 0; e < mesh_.num_edges(); ++e) {
-            const int h = mesh_.halfedge(e), t = mesh_.twin(h);
+            const int h = mesh_.halfedge(e);
             input_length_[e] = distance(P_[mesh_.tail(h)], P_[mesh_.head(h)]);
-            input_ends_[e] = {mesh_.tail(h), mesh_.head(h)};
-            input_faces_[e] = {HalfedgeMesh::face(h), t < 0 ? -1 : HalfedgeMesh::face(t)};
         }
-        input_faces_count_ = mesh_.num_faces();
         queued_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
         // An empty mesh has no bounding box (and no edge to split).
         const double diagonal =
@@ -164,77 +165,87 @@ private:
     // on each side, the split is undone, and Lawson flips restore the planes' triangulations;
     // anything they left non-Delaunay would be split again by the same loop.
     void remove_unneeded_points(ConversionReport& report) {
-        // Planes: input faces joined across flat input edges, with the input edges around them.
-        UnionFind planes(input_faces_count_);
-        const int input_edges = static_cast<int>(input_length_.size());
-        for (int e = 0; e < input_edges; ++e)
-            if (input_flat_[e]) planes.unite(input_faces_[e][0], input_faces_[e][1]);
-        std::vector<std::pair<int, int>> plane_edge;  // (plane, input edge)
-        for (int e = 0; e < input_edges; ++e) {
-            const auto [f, g] = input_faces_[e];
-            plane_edge.emplace_back(planes.find(f), e);
-            if (g >= 0 && !input_flat_[e]) plane_edge.emplace_back(planes.find(g), e);
-        }
-        const Buckets plane_edges(input_faces_count_, plane_edge);
-        // The points on each input edge, ends included (removed ones are skipped when read).
-        std::vector<std::pair<int, int>> edge_point;  // (input edge, point)
-        for (int e = 0; e < input_edges; ++e) {
-            edge_point.emplace_back(e, input_ends_[e][0]);
-            edge_point.emplace_back(e, input_ends_[e][1]);
-        }
-        for (int v = input_vertices_; v < static_cast<int>(P_.size()); ++v)
-            if (vertex_input_edge_[v - input_vertices_] >= 0) edge_point.emplace_back(vertex_input_edge_[v - input_vertices_], v);
-        const Buckets on_edge(input_edges, edge_point);
+        const int input_faces = static_cast<int>(input_.F.rows()), edges = input_edges_.num_edges();
+        auto faces_of = [&](int e) {
+            const int g = input_edges_.edge_halfedges(e, 1);
+            return std::array<int, 2>{input_edges_.edge_halfedges(e, 0) / 3, g < 0 ? -1 : g / 3};
+        };
+        // Planes: input faces joined across flat input edges (one face each without them).
+        const bool any_flat = std::find(input_flat_.begin(), input_flat_.end(), 1) != input_flat_.end();
+        UnionFind planes(any_flat ? input_faces : 0);
+        if (any_flat)
+            for (int e = 0; e < edges; ++e)
+                if (input_flat_[e]) planes.unite(faces_of(e)[0], faces_of(e)[1]);
+        const Buckets plane_faces(any_flat ? input_faces : 0, any_flat ? input_faces : 0,
+                                  [&](int f) { return planes.find(f); });
+        auto for_each_face_in_plane_of = [&](int f, auto&& visit) {
+            if (!any_flat) return visit(f);
+            for (const int face : plane_faces[planes.find(f)]) visit(face);
+        };
+        // The split points on each input edge (removed ones are skipped when read).
         const int split_points = static_cast<int>(P_.size());
-
-        // Cotangent of the widest angle under which a point of the plane of face f sees p-q (the
-        // points on edge e itself are on its line).
+        const Buckets on_edge(edges, split_points - input_vertices_, [&](int i) { return vertex_input_edge_[i]; });
+        // Calls visit(y, input edge) for the points on the edges of the plane of face f.
+        auto for_each_point_in_plane_of = [&](int f, auto&& visit) {
+            for_each_face_in_plane_of(f, [&](int face) {
+                for (int k = 0; k < 3; ++k) {
+                    const int edge = input_edges_.face_edge(face, k);
+                    visit(input_.F(face, (k + 1) % 3), edge);
+                    for (const int i : on_edge[edge]) visit(input_vertices_ + i, edge);
+                    for (int y = split_points; y < static_cast<int>(P_.size()); ++y)  // added while removing
+                        if (vertex_input_edge_[y - input_vertices_] == edge) visit(y, edge);
+                }
+            });
+        };
+        // Cotangent of the angle under which y sees p-q (+inf on their line).
+        auto cotangent = [&](int y, int p, int q) {
+            const Eigen::Vector3d a = P_[p] - P_[y], b = P_[q] - P_[y];
+            const double sine = a.cross(b).norm();
+            return sine > 0 ? a.dot(b) / sine : std::numeric_limits<double>::infinity();
+        };
+        // ... of the widest angle under which a point of the plane of face f, off edge e, sees p-q.
         auto apex_cotangent = [&](int f, int p, int q, int e) {
             double smallest = std::numeric_limits<double>::infinity();
-            auto consider = [&](int y) {
-                if (y == p || y == q || (y >= input_vertices_ && removed_[y - input_vertices_])) return;
-                const Eigen::Vector3d a = P_[p] - P_[y], b = P_[q] - P_[y];
-                const double sine = a.cross(b).norm();
-                if (sine > 0) smallest = std::min(smallest, a.dot(b) / sine);
-            };
-            for (const int other : plane_edges[planes.find(f)])
-                if (other != e) {
-                    for (const int y : on_edge[other]) consider(y);
-                    for (int y = split_points; y < static_cast<int>(P_.size()); ++y)  // added while removing
-                        if (vertex_input_edge_[y - input_vertices_] == other) consider(y);
-                }
+            for_each_point_in_plane_of(f, [&](int y, int edge) {
+                if (edge == e || y == p || y == q || (y >= input_vertices_ && removed_[y - input_vertices_])) return;
+                smallest = std::min(smallest, cotangent(y, p, q));
+            });
             return smallest;
         };
         // Every split point is tried; a removal makes the points of its two planes worth trying
         // again, so that at the end no point can go alone.
         std::deque<int> to_try;
         std::vector<char> waiting(static_cast<size_t>(split_points - input_vertices_), 0);
-        auto try_later = [&](int x) {
+        auto try_later = [&](int x, int) {
             if (x < input_vertices_ || x >= split_points || waiting[x - input_vertices_] || removed_[x - input_vertices_])
                 return;
             waiting[x - input_vertices_] = 1;
             to_try.push_back(x);
         };
-        for (int x = input_vertices_; x < split_points; ++x) try_later(x);
+        for (int x = input_vertices_; x < split_points; ++x) try_later(x, -1);
         while (!to_try.empty() && report.status == ConvertStatus::certified) {
             const int x = to_try.front();
             to_try.pop_front();
             waiting[x - input_vertices_] = 0;
             const int e = vertex_input_edge_[x - input_vertices_];
             if (e < 0 || input_flat_[e] || removed_[x - input_vertices_]) continue;
-            const auto [f, g] = input_faces_[e];
+            const auto [f, g] = faces_of(e);
             const int p = other_end(pieces_[x - input_vertices_][0], x), q = other_end(pieces_[x - input_vertices_][1], x);
-            // Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary.
+            // Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary. The
+            // apexes of x's piece to p, one in each plane, settle most points at once.
+            const Hinge k = hinge(pieces_[x - input_vertices_][0]);
+            const double first_apexes = k.s >= 0 ? cotangent(k.r, p, q) + cotangent(k.s, p, q)
+                                        : options_.boundary == BoundaryPolicy::strict ? cotangent(k.r, p, q)
+                                                                                     : 0.0;
+            if (!(first_apexes >= 0)) continue;
             const double margin = g >= 0 ? apex_cotangent(f, p, q, e) + apex_cotangent(g, p, q, e)
                                  : options_.boundary == BoundaryPolicy::strict ? apex_cotangent(f, p, q, e)
                                                                               : 0.0;
             if (!(margin >= 0)) continue;
             if (undo_split(x, report)) {
                 ++report.removed_points;
-                for (const int face : {f, g})
-                    if (face >= 0)
-                        for (const int other : plane_edges[planes.find(face)])
-                            for (const int y : on_edge[other]) try_later(y);
+                for_each_point_in_plane_of(f, try_later);
+                if (g >= 0) for_each_point_in_plane_of(g, try_later);
             }
             drain(report);
         }
@@ -559,6 +570,8 @@ private:
     }
 
     const ConvertOptions& options_;
+    const TriangleMesh& input_;
+    const EdgeTable& input_edges_;
     HalfedgeMesh mesh_;
     int input_vertices_;
     AngleBound flat_angle_, coplanar_angle_;
@@ -568,9 +581,7 @@ private:
     // Edges whose two faces lie in one plane by construction (within the coplanar tolerance).
     std::vector<char> in_plane_;
     std::vector<double> input_length_;  // by input edge
-    std::vector<std::array<int, 2>> input_ends_, input_faces_;  // by input edge (face -1: boundary)
     std::vector<char> input_flat_;  // by input edge, at the coplanar tolerance
-    int input_faces_count_ = 0;
     std::vector<int> vertex_input_edge_;  // by split point: the input edge it lies on, -1 inside a face
     std::vector<char> removed_;  // by split point: removed again
     long long vertex_budget_ = 0, flip_budget_ = 0;
