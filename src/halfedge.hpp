@@ -1,6 +1,6 @@
 #pragma once
-// Mutable connectivity for edge flips and splits, shared by the conversion and intrinsic modules
-// (internal, not installed). Corner-table layout: face f owns halfedges 3f, 3f+1, 3f+2, and
+// Mutable connectivity for edge flips, splits and merges, shared by the conversion and intrinsic
+// modules (internal, not installed). Corner-table layout: face f owns halfedges 3f, 3f+1, 3f+2, and
 // halfedge 3f+k is the side OPPOSITE corner k, running from corner k+1 to corner k+2 — the
 // convention of topology.hpp and Triangulation. Twins are explicit, never looked up by vertex
 // pairs, so a Δ-complex (repeated edges, self-loops) is representable. Each halfedge also holds
