@@ -203,7 +203,8 @@ private:
             const double sine = a.cross(b).norm();
             return sine > 0 ? a.dot(b) / sine : std::numeric_limits<double>::infinity();
         };
-        // ... of the widest angle under which a point of the plane of face f, off edge e, sees p-q.
+        // Cotangent of the widest angle under which a point of the plane of face f, off edge e,
+        // sees p-q.
         auto apex_cotangent = [&](int f, int p, int q, int e) {
             double smallest = std::numeric_limits<double>::infinity();
             for_each_point_in_plane_of(f, [&](int y, int edge) {
@@ -314,6 +315,7 @@ private:
         push(piece);
         return true;
     }
+
     // An angle bound for dihedral tests, with its tangent: below π/2 the test needs no arctangent.
     struct AngleBound {
         explicit AngleBound(double radians) : angle(radians), tangent(std::tan(radians)) {}
