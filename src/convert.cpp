@@ -71,8 +71,21 @@ public:
           input_vertices_(mesh.num_vertices()),
           flat_angle_(flat_angle(options)),
           coplanar_angle_(options.coplanar_tolerance) {
+        // An empty mesh has no bounding box (and no edge to split).
+        const double diagonal =
+            mesh.V.rows() == 0 ? 0.0 : (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+        // Beyond that the other commands' areas overflow too; they refuse such meshes alike.
+        if (!std::isfinite(diagonal))
+            throw InvalidMeshError("convert: coordinates too large (the bounding-box diagonal overflows)");
+        // The work is done at the scale of a unit diagonal, by a power of two (exact both ways):
+        // far from it, the products of lengths in the tests overflow or underflow (the bunny
+        // scaled by 1e150 took every hinge for flat and split on to its vertex budget), and any
+        // power-of-two scaling of the input gives the same output.
+        scale_exponent_ = diagonal > 0 ? std::ilogb(diagonal) : 0;
         P_.resize(static_cast<size_t>(mesh.num_vertices()));
-        for (int v = 0; v < mesh.num_vertices(); ++v) P_[v] = mesh.V.row(v).transpose();
+        for (int v = 0; v < mesh.num_vertices(); ++v)
+            for (int i = 0; i < 3; ++i) P_[v][i] = std::ldexp(mesh.V(v, i), -scale_exponent_);
+        shell_unit_ = std::exp2(std::floor(std::log2(std::ldexp(diagonal, -scale_exponent_))) - 40.0);
         input_edge_.resize(static_cast<size_t>(mesh_.num_edges()));
         for (int e = 0; e < mesh_.num_edges(); ++e) input_edge_[e] = e;
         in_plane_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
@@ -83,13 +96,6 @@ public:
             input_length_[e] = distance(P_[mesh_.tail(h)], P_[mesh_.head(h)]);
         }
         queued_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
-        // An empty mesh has no bounding box (and no edge to split).
-        const double diagonal =
-            mesh.V.rows() == 0 ? 0.0 : (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
-        // Coordinates near the double range would make split points and lengths overflow.
-        if (!std::isfinite(diagonal))
-            throw InvalidMeshError("convert: coordinates too large (the bounding-box diagonal overflows)");
-        shell_unit_ = std::exp2(std::floor(std::log2(diagonal)) - 40.0);
     }
 
     void run(ConversionReport& report) {
@@ -117,7 +123,8 @@ public:
         TriangleMesh out;
         out.V.resize(kept, 3);
         for (size_t v = 0; v < P_.size(); ++v)
-            if (new_id[v] >= 0) out.V.row(new_id[v]) = P_[v].transpose();
+            if (new_id[v] >= 0)
+                for (int i = 0; i < 3; ++i) out.V(new_id[v], i) = std::ldexp(P_[v][i], scale_exponent_);
         out.F = mesh_.faces();
         for (int f = 0; f < out.F.rows(); ++f)
             for (int k = 0; k < 3; ++k) out.F(f, k) = new_id[out.F(f, k)];
@@ -577,6 +584,7 @@ private:
     HalfedgeMesh mesh_;
     int input_vertices_;
     AngleBound flat_angle_, coplanar_angle_;
+    int scale_exponent_ = 0;  // P_ = input coordinates · 2^-scale_exponent_
     double shell_unit_ = 1;
     std::vector<Eigen::Vector3d> P_;
     std::vector<int> input_edge_;  // the input edge an edge lies on, -1 inside an input face

@@ -240,6 +240,29 @@ TEST(ConvertMethods, FarFromTheOriginSplitsOnlyInputEdges) {
     }
 }
 
+// The conversion works at the scale of a unit diagonal: scaled by a power of two the output is
+// the same scaled, and far from that scale the products of lengths in its tests overflowed (the
+// bunny scaled by 1e150 took every hinge for flat and split on to its vertex budget).
+TEST(ConvertMethods, TheScaleOfTheCoordinatesChangesNothing) {
+    const TriangleMesh bunny = adversarial("bunny");
+    const ConversionResult reference = convert(bunny);
+    for (const int exponent : {-200, 200}) {
+        TriangleMesh scaled = bunny;
+        scaled.V = bunny.V.unaryExpr([&](double c) { return std::ldexp(c, exponent); });
+        const ConversionResult result = convert(scaled);
+        EXPECT_EQ(result.report.status, ConvertStatus::certified) << exponent;
+        EXPECT_EQ(result.mesh.F, reference.mesh.F) << exponent;
+        EXPECT_TRUE(result.mesh.V == reference.mesh.V.unaryExpr([&](double c) { return std::ldexp(c, exponent); }))
+            << exponent;
+    }
+    for (const double scale : {1e-60, 1e150}) {  // validate() refuses much further (bad_input_cases.hpp)
+        const ConversionResult result = convert(TriangleMesh{bunny.V * scale, bunny.F});
+        EXPECT_EQ(result.report.status, ConvertStatus::certified) << scale;
+        EXPECT_NEAR(double(result.report.splits), double(reference.report.splits), 0.1 * double(reference.report.splits))
+            << scale;
+    }
+}
+
 // No split point of the output can go alone: for each, the piece joining its two neighbours on
 // its input edge would see a point of the input faces on its sides under angles summing to more
 // than π (a strict boundary piece: more than π/2). On these meshes no two faces are coplanar, so
