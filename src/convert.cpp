@@ -30,6 +30,8 @@ constexpr double kPi = std::numbers::pi;
 // Pieces of an input edge shorter than this fraction of it, with one end at an input vertex, are
 // split on Ruppert's shells (see split_distance).
 constexpr double kShellPieceFraction = 0.25;
+// Split points next to a plane with more points than this are not removed (quadratic work).
+constexpr int kMaxPlanePoints = 2048;
 
 // The hinge of an edge seen from halfedge h = (a -> b) with apex r, and its twin's apex s
 // (s = -1 on the boundary).
@@ -204,6 +206,18 @@ private:
                 }
             });
         };
+        // Points next to a plane of more than kMaxPlanePoints points stay: each try scans both
+        // planes, and a removal retries their points (the corpus's largest plane has 1,269).
+        std::vector<char> plane_too_big(any_flat ? input_faces : 0, 0);
+        if (any_flat) {
+            std::vector<int> points(input_faces, 0);
+            for (int f = 0; f < input_faces; ++f) {
+                int& n = points[planes.find(f)];
+                for (int k = 0; k < 3; ++k) n += 1 + static_cast<int>(on_edge[input_edges_.face_edge(f, k)].size());
+                if (n > kMaxPlanePoints) plane_too_big[planes.find(f)] = 1;
+            }
+        }
+        auto is_too_big = [&](int f) { return f >= 0 && any_flat && plane_too_big[planes.find(f)]; };
         // Cotangent of the angle under which y sees p-q (+inf on their line).
         auto cotangent = [&](int y, int p, int q) {
             const Eigen::Vector3d a = P_[p] - P_[y], b = P_[q] - P_[y];
@@ -238,6 +252,7 @@ private:
             const int e = vertex_input_edge_[x - input_vertices_];
             if (e < 0 || input_flat_[e] || removed_[x - input_vertices_]) continue;
             const auto [f, g] = faces_of(e);
+            if (is_too_big(f) || is_too_big(g)) continue;
             const int p = other_end(pieces_[x - input_vertices_][0], x), q = other_end(pieces_[x - input_vertices_][1], x);
             // Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary. The
             // apexes of x's piece to p, one in each plane, settle most points at once.
