@@ -80,6 +80,23 @@ TriangleMesh adversarial(const std::string& name) {
     throw std::invalid_argument(name);
 }
 
+// The edge of `mesh` nearest to x, where along it (0 at E(edge, 0), 1 at E(edge, 1)), and how far.
+struct NearestEdge {
+    int edge = -1;
+    double t = 0, distance = std::numeric_limits<double>::infinity();
+};
+
+NearestEdge nearest_edge(const TriangleMesh& mesh, const EdgeTable& edges, const Eigen::Vector3d& x) {
+    NearestEdge nearest;
+    for (int e = 0; e < edges.num_edges(); ++e) {
+        const Eigen::Vector3d a = mesh.V.row(edges.E(e, 0)), b = mesh.V.row(edges.E(e, 1));
+        const double t = std::clamp((x - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+        const double d = (a + t * (b - a) - x).norm();
+        if (d < nearest.distance) nearest = {e, t, d};
+    }
+    return nearest;
+}
+
 struct Case {
     std::string mesh;
     ConvertOptions options;
@@ -137,17 +154,9 @@ TEST_P(ConvertSplit, MovesNothing) {
     const double diagonal = (input.V.colwise().maxCoeff() - input.V.colwise().minCoeff()).norm();
     const double tol = 1e-12 * diagonal;
     EXPECT_EQ(result.report.vertices_inside_faces, 0);
-    for (int v = input.num_vertices(); v < result.mesh.num_vertices(); ++v) {
-        const Eigen::Vector3d x = result.mesh.V.row(v);
-        double nearest = std::numeric_limits<double>::infinity();
-        for (int f = 0; f < input.num_faces(); ++f)
-            for (int k = 0; k < 3; ++k) {
-                const Eigen::Vector3d a = input.V.row(input.F(f, k)), b = input.V.row(input.F(f, (k + 1) % 3));
-                const double t = std::clamp((x - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-                nearest = std::min(nearest, (a + t * (b - a) - x).norm());
-            }
-        EXPECT_LE(nearest, tol) << "vertex " << v;
-    }
+    const EdgeTable edges = build_edge_table(input.F, input.num_vertices());
+    for (int v = input.num_vertices(); v < result.mesh.num_vertices(); ++v)
+        EXPECT_LE(nearest_edge(input, edges, result.mesh.V.row(v).transpose()).distance, tol) << "vertex " << v;
     const TriangleTree surface(input);
     for (int f = 0; f < result.mesh.num_faces(); ++f) {
         Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
@@ -225,17 +234,10 @@ TEST(ConvertMethods, FarFromTheOriginSplitsOnlyInputEdges) {
             EXPECT_NEAR(double(result.report.splits), double(near_origin.splits), 0.1 * double(near_origin.splits))
                 << name;
             const double ulp = 3e6 * std::numeric_limits<double>::epsilon();
-            for (int v = far.num_vertices(); v < result.mesh.num_vertices(); ++v) {
-                const Eigen::Vector3d x = result.mesh.V.row(v);
-                double nearest = std::numeric_limits<double>::infinity();
-                for (int f = 0; f < far.num_faces(); ++f)
-                    for (int k = 0; k < 3; ++k) {
-                        const Eigen::Vector3d a = far.V.row(far.F(f, k)), b = far.V.row(far.F(f, (k + 1) % 3));
-                        const double t = std::clamp((x - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-                        nearest = std::min(nearest, (a + t * (b - a) - x).norm());
-                    }
-                EXPECT_LE(nearest, 4 * ulp) << name << ": vertex " << v;
-            }
+            const EdgeTable edges = build_edge_table(far.F, far.num_vertices());
+            for (int v = far.num_vertices(); v < result.mesh.num_vertices(); ++v)
+                EXPECT_LE(nearest_edge(far, edges, result.mesh.V.row(v).transpose()).distance, 4 * ulp)
+                    << name << ": vertex " << v;
         }
     }
 }
@@ -281,15 +283,8 @@ TEST(ConvertMethods, NoSplitPointCanGoAlone) {
         for (int e = 0; e < edges.num_edges(); ++e)
             along[e] = {{0.0, edges.E(e, 0)}, {1.0, edges.E(e, 1)}};
         for (int v = input.num_vertices(); v < result.mesh.num_vertices(); ++v) {
-            int best = -1;
-            double best_distance = std::numeric_limits<double>::infinity(), best_t = 0;
-            for (int e = 0; e < edges.num_edges(); ++e) {
-                const Eigen::Vector3d a = point(edges.E(e, 0)), b = point(edges.E(e, 1));
-                const double t = std::clamp((point(v) - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-                const double d = (a + t * (b - a) - point(v)).norm();
-                if (d < best_distance) best = e, best_distance = d, best_t = t;
-            }
-            along[best].emplace_back(best_t, v);
+            const NearestEdge on = nearest_edge(input, edges, point(v));
+            along[on.edge].emplace_back(on.t, v);
         }
         for (auto& points : along) std::sort(points.begin(), points.end());
         // Cotangent of the widest angle under which a point of face f off edge e sees p-q.
