@@ -18,6 +18,7 @@
 
 #include "sdmesh/cholesky.hpp"
 #include "sdmesh/error.hpp"
+#include "sdmesh/geometry.hpp"
 
 #include "blas.hpp"
 #include "mass_product.hpp"
@@ -94,6 +95,28 @@ void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& optio
                                  ", " + std::to_string(i) + ") = " + std::to_string(mass[i]) +
                                  " (a vertex in no face, which sdmesh repair drops, or a negative "
                                  "circumcentric dual cell, which conversion to self-Delaunay removes)");
+}
+
+// Powers of two that bring the mean diagonal entries of L and M near 1 (M's a power of four, so
+// that its square root is exact too). Eigenpairs scale exactly with them, and the solve is then
+// the same for a mesh in any unit of length: at 1e-80 or 1e100 M's entries would otherwise take
+// Lanczos and the factorization out of the double range.
+struct UnitScales {
+    double stiffness = 1, mass = 1;
+};
+
+UnitScales unit_scales(const Sparse& L, const Sparse& M) {
+    const double n = static_cast<double>(L.rows());
+    const auto scale_to_one = [](double mean, int step) { return std::ldexp(1.0, -step * (unit_exponent(mean) / step)); };
+    return {scale_to_one(L.diagonal().sum() / n, 1), scale_to_one(M.diagonal().sum() / n, 2)};
+}
+
+// storage = factor · source, in place when source is storage.
+void scale_operand(const Sparse& source, double factor, Sparse& storage) {
+    if (&source == &storage)
+        storage *= factor;
+    else
+        storage = factor * source;
 }
 
 struct Eigenpairs {
@@ -257,6 +280,11 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     Sparse L_storage, M_storage;
     const Sparse& L = operand(L_full, L_storage);
     const Sparse& M = operand(M_full, M_storage);
+    const UnitScales scales = unit_scales(L, M);
+    if (scales.stiffness != 1) scale_operand(L, scales.stiffness, L_storage);
+    if (scales.mass != 1) scale_operand(M, scales.mass, M_storage);
+    const Sparse& L_unit = scales.stiffness != 1 ? L_storage : L;
+    const Sparse& M_unit = scales.mass != 1 ? M_storage : M;
     const int n = static_cast<int>(L.rows());
     const int k = options.k;
     if (k < 1 || k >= n)
@@ -277,7 +305,10 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
 
     EigenReport report;
     report.solver = options.solver;
-    report.sigma = std::isnan(options.sigma) ? -L.diagonal().sum() / (n * M.diagonal().sum()) : options.sigma;
+    // The solve runs on the unit problem (L_unit, M_unit) = (aL, cM), whose pairs are (aλ/c, φ/√c).
+    const double to_unit = scales.stiffness / scales.mass;
+    report.sigma = std::isnan(options.sigma) ? -L_unit.diagonal().sum() / (n * M_unit.diagonal().sum())
+                                             : options.sigma * to_unit;
     if (!(report.sigma < 0))
         throw InvalidArgumentError("eigenpairs: the automatic shift is not negative (trace(L) = " +
                                    std::to_string(L.diagonal().sum()) + ", trace(M) = " +
@@ -287,11 +318,13 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     if (options.progress && !block)
         std::fprintf(stderr, "eigs: Spectra's Lanczos for %d pairs (n = %d; no lines until it ends)\n", k, n);
     const bool dense = block && basis == n && n <= kMaxDenseUnknowns;
-    Eigenpairs pairs = dense   ? dense_eigenpairs(L, M, k, report)
-                       : block ? block_eigenpairs(L, M, k, nev, basis, options, report)
-                             : spectra_eigenpairs(L, M, k, nev, basis, options, report);
-    result.values = std::move(pairs.values);
-    measure_accuracy(L, M, result.values, pairs.vectors, report);
+    Eigenpairs pairs = dense   ? dense_eigenpairs(L_unit, M_unit, k, report)
+                       : block ? block_eigenpairs(L_unit, M_unit, k, nev, basis, options, report)
+                             : spectra_eigenpairs(L_unit, M_unit, k, nev, basis, options, report);
+    measure_accuracy(L_unit, M_unit, pairs.values, pairs.vectors, report);  // relative: the same in any unit
+    report.sigma /= to_unit;
+    result.values = pairs.values / to_unit;
+    pairs.vectors *= std::sqrt(scales.mass);
     result.vectors = restricted ? Eigen::MatrixXd(P.transpose() * pairs.vectors) : std::move(pairs.vectors);
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.progress)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <functional>
 #include <string>
@@ -9,6 +10,7 @@
 #include <omp.h>
 
 #include "sdmesh/error.hpp"
+#include "sdmesh/geometry.hpp"
 
 #include "free_vertices.hpp"
 
@@ -27,6 +29,23 @@ void check_time_step(double t, const char* who) {
     if (!(t > 0) || !std::isfinite(t))
         throw InvalidArgumentError(std::string(who) + ": the time step must be positive and finite, got " +
                                    std::to_string(t));
+}
+
+// Far above the squared edge lengths (~ trace(M) / trace(L)), t·L swamps M in M + tL: relative to
+// L, M then only survives to about ε·ratio, and from 1e12 on (an error of ~1e-4 in the heat that
+// M alone conserves) the solutions are mostly rounding. On the bunny at 1e-80 (ratio 3e158) the
+// factorization failed; at ratio 1e31 it passed and the heat came out 1e-14 times too small.
+void check_time_scale(const Sparse& L, const Sparse& M, double t) {
+    constexpr double kMaxRatio = 1e12;
+    const double ratio = t * L.diagonal().sum() / M.diagonal().sum();
+    if (ratio > kMaxRatio) {
+        char message[256];
+        std::snprintf(message, sizeof message,
+                      "heat: the time step t = %g is %.3g times the squared edge length (trace(M)/trace(L)); beyond "
+                      "%.0e, M + tL loses M to rounding: take a smaller t",
+                      t, ratio, kMaxRatio);
+        throw InvalidArgumentError(message);
+    }
 }
 
 }  // namespace
@@ -104,6 +123,7 @@ HeatSolver::HeatSolver(const Sparse& L, const Sparse& M, double t, const std::ve
                        const CholeskyOptions& cholesky) {
     detail::check_square_pair(L, M, "heat");
     check_time_step(t, "heat");
+    check_time_scale(L, M, t);
     const detail::Pins pins(static_cast<int>(L.rows()), dirichlet_vertices, "heat");
     fixed_ = dirichlet_vertices;
     L_ = L;
@@ -115,6 +135,7 @@ HeatSolver::HeatSolver(const Sparse& L, const Sparse& M, double t, const std::ve
 
 void HeatSolver::set_time_step(double t) {
     check_time_step(t, "heat");
+    check_time_scale(L_, M_, t);
     Sparse A = M_ + t * L_;
     detail::Pins(static_cast<int>(L_.rows()), fixed_, "heat").apply(A);
     solver_.factorize(A);
@@ -133,13 +154,13 @@ Eigen::VectorXd HeatSolver::step(const Eigen::VectorXd& u0, int steps) const {
 
 namespace {
 
-double heat_time(const Triangulation& t, const GeodesicOptions& options) {
+// The heat time in units of 2^length_exponent (a time is a squared length).
+double heat_time(const Triangulation& unit, int length_exponent, const GeodesicOptions& options) {
     if (!std::isnan(options.time)) {
         check_time_step(options.time, "geodesics");
-        return options.time;
+        return std::ldexp(options.time, -2 * length_exponent);
     }
-    if (t.num_edges() == 0) throw InvalidArgumentError("geodesics: the triangulation has no edges");
-    const double h = t.length.mean();
+    const double h = unit.length.mean();
     return h * h;
 }
 
@@ -154,12 +175,19 @@ std::vector<int> boundary_vertices(const Triangulation& t) {
 
 }  // namespace
 
-HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& options)
-    : HeatGeodesics(t, options, std::chrono::steady_clock::now()) {}
+HeatGeodesics::UnitLengths HeatGeodesics::unit_lengths(const Triangulation& t) {
+    if (t.num_edges() == 0) throw InvalidArgumentError("geodesics: the triangulation has no edges");
+    UnitLengths unit{t, unit_exponent(t.length.mean())};
+    for (double& l : unit.t.length) l = std::ldexp(l, -unit.length_exponent);
+    return unit;
+}
 
-HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& options,
+HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& options)
+    : HeatGeodesics(unit_lengths(t), options, std::chrono::steady_clock::now()) {}
+
+HeatGeodesics::HeatGeodesics(const UnitLengths& unit, const GeodesicOptions& options,
                              std::chrono::steady_clock::time_point start)
-    : HeatGeodesics(t, options, start, cotan_laplacian(t), mass_matrix(t, options.mass)) {}
+    : HeatGeodesics(unit, options, start, cotan_laplacian(unit.t), mass_matrix(unit.t, options.mass)) {}
 
 // Not CHOLMOD's default ordering: on meshes AMD's fill is always high enough that the default
 // computes METIS's too and discards AMD's. Coarse nested dissection is ~40 % faster to compute
@@ -202,15 +230,16 @@ HeatGeodesics::Factorizations HeatGeodesics::factorize(const Triangulation& t, c
     return {std::move(*neumann_heat), std::move(dirichlet_heat), std::move(*poisson), static_cast<int>(boundary.size())};
 }
 
-HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& options,
+HeatGeodesics::HeatGeodesics(const UnitLengths& unit, const GeodesicOptions& options,
                              std::chrono::steady_clock::time_point start, const Sparse& L, const Sparse& M)
-    : num_vertices_(t.num_vertices),
-      divergence_(divergence(t)),
-      time_(heat_time(t, options)),
-      solvers_(factorize(t, options, L, M, time_)) {
+    : num_vertices_(unit.t.num_vertices),
+      length_exponent_(unit.length_exponent),
+      divergence_(divergence(unit.t)),
+      time_(heat_time(unit.t, unit.length_exponent, options)),
+      solvers_(factorize(unit.t, options, L, M, time_)) {
     report_.boundary_vertices = solvers_.dirichlet_vertices;
     component_ = detail::connected_components(L, component_count_);
-    report_.time = time_;
+    report_.time = std::ldexp(time_, 2 * length_exponent_);
     report_.precompute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -247,7 +276,8 @@ Eigen::VectorXd HeatGeodesics::distance(const std::vector<int>& sources) const {
     }
     for (int v = 0; v < num_vertices_; ++v) {
         const int c = component_[static_cast<size_t>(v)];
-        phi[v] = count[c] > 0 ? phi[v] - sum[c] / count[c] : std::numeric_limits<double>::infinity();
+        phi[v] = count[c] > 0 ? std::ldexp(phi[v] - sum[c] / count[c], length_exponent_)
+                              : std::numeric_limits<double>::infinity();
     }
     return phi;
 }

@@ -73,17 +73,12 @@ public:
           input_vertices_(mesh.num_vertices()),
           flat_angle_(flat_angle(options)),
           coplanar_angle_(options.coplanar_tolerance) {
-        // An empty mesh has no bounding box (and no edge to split).
-        const double diagonal =
-            mesh.V.rows() == 0 ? 0.0 : (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
-        // Beyond that the other commands' areas overflow too; they refuse such meshes alike.
-        if (!std::isfinite(diagonal))
-            throw InvalidMeshError("convert: coordinates too large (the bounding-box diagonal overflows)");
+        const double diagonal = bounding_box_diagonal(mesh);  // in the supported range (convert checks)
         // The work is done at the scale of a unit diagonal, by a power of two (exact both ways):
         // far from it, the products of lengths in the tests overflow or underflow (the bunny
         // scaled by 1e150 took every hinge for flat and split on to its vertex budget), and any
         // power-of-two scaling of the input gives the same output.
-        scale_exponent_ = diagonal > 0 ? std::ilogb(diagonal) : 0;
+        scale_exponent_ = unit_exponent(diagonal);
         P_.resize(static_cast<size_t>(mesh.num_vertices()));
         for (int v = 0; v < mesh.num_vertices(); ++v)
             for (int i = 0; i < 3; ++i) P_[v][i] = std::ldexp(mesh.V(v, i), -scale_exponent_);
@@ -632,6 +627,7 @@ ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options
     const auto start = Clock::now();
     check_options(options);
     require_indices_in_range(mesh);
+    require_supported_extent(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
     const MeshInfo info = validate(mesh, edges);
     require_oriented_manifold(info, "convert");

@@ -150,7 +150,7 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     // verdicts are those of the input, while squared lengths of coordinates near the ends of the
     // double range (1e300, 1e-300) neither overflow nor underflow. Dual areas are scaled back.
     const double largest = mesh.V.size() > 0 ? mesh.V.cwiseAbs().maxCoeff() : 0.0;
-    const int exponent = largest > 0 ? std::ilogb(largest) : 0;
+    const int exponent = unit_exponent(largest);
     const double scale = std::ldexp(1.0, -exponent);
     std::vector<Eigen::Vector3d> P(num_vertices);
     detail::prefault(P);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "sdmesh/error.hpp"
+#include "sdmesh/geometry.hpp"
 
 // Determinism: each sample's distance depends only on the sample and the tree; the parallel loops
 // combine them with max (order-independent) and per-face sums that are added serially in face
@@ -271,18 +272,24 @@ HausdorffReport hausdorff_distance(const TriangleMesh& a, const TriangleMesh& b,
     if (options.samples_per_face < 1 || options.max_samples < 1)
         throw InvalidArgumentError("hausdorff_distance: samples_per_face (" + std::to_string(options.samples_per_face) +
                                    ") and max_samples (" + std::to_string(options.max_samples) + ") must be >= 1");
-    const TriangleTree tree_a = tree_of(a, "first");
-    const TriangleTree tree_b = tree_of(b, "second");
-    const OneSided forward = sample_distances(a, tree_b, options);
-    const OneSided backward = sample_distances(b, tree_a, options);
+    // Both meshes are measured at the scale of a unit diagonal of the first, by a power of two
+    // (exact): normals are cross products, whose squared norms overflow from coordinates of about
+    // 1e75 on (every face then looked too thin to have one).
+    const int exponent = unit_exponent(bounding_box_diagonal(a));
+    const TriangleMesh unit_a = scaled_by_power_of_two(a, -exponent), unit_b = scaled_by_power_of_two(b, -exponent);
+    const TriangleTree tree_a = tree_of(unit_a, "first");
+    const TriangleTree tree_b = tree_of(unit_b, "second");
+    const OneSided forward = sample_distances(unit_a, tree_b, options);
+    const OneSided backward = sample_distances(unit_b, tree_a, options);
 
+    const auto in_input_units = [exponent](double length) { return std::ldexp(length, exponent); };
     HausdorffReport report;
-    report.forward = forward.max;
-    report.backward = backward.max;
-    report.hausdorff = std::max(forward.max, backward.max);
-    report.diagonal = tree_a.bounds().diagonal().norm();
-    report.hausdorff_rel = report.hausdorff == 0 ? 0 : report.hausdorff / report.diagonal;
-    report.mean_forward = forward.mean;
+    report.forward = in_input_units(forward.max);
+    report.backward = in_input_units(backward.max);
+    report.hausdorff = std::max(report.forward, report.backward);
+    report.diagonal = in_input_units(tree_a.bounds().diagonal().norm());
+    report.hausdorff_rel = report.hausdorff == 0 ? 0 : std::max(forward.max, backward.max) / tree_a.bounds().diagonal().norm();
+    report.mean_forward = in_input_units(forward.mean);
     report.samples = forward.samples + backward.samples;
     return report;
 }

@@ -1,5 +1,7 @@
 #include "sdmesh/mesh.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "sdmesh/error.hpp"
@@ -21,6 +23,29 @@ void require_finite_positions(const TriangleMesh& mesh) {
         if (!mesh.V.row(v).allFinite())
             throw InvalidMeshError("vertex " + std::to_string(v) +
                                    " has a coordinate that is not finite");
+}
+
+double bounding_box_diagonal(const TriangleMesh& mesh) {
+    // stableNorm: the squares of extents below 1e-154 or above 1e154 would leave the double range.
+    return mesh.num_vertices() == 0 ? 0.0 : (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).stableNorm();
+}
+
+void require_supported_extent(const TriangleMesh& mesh) {
+    const double diagonal = bounding_box_diagonal(mesh);
+    const double largest = std::ldexp(1.0, kMaxExtentExponent), smallest = std::ldexp(1.0, -kMaxExtentExponent);
+    // NaN is left for require_finite_positions, which names the vertex.
+    if (std::isnan(diagonal) || (diagonal <= largest && (diagonal == 0 || diagonal >= smallest))) return;
+    const bool large = diagonal > largest;
+    char message[200];
+    std::snprintf(message, sizeof message,
+                  "coordinates too %s: the bounding-box diagonal is %.3g, %s %.3g (squared lengths and areas would "
+                  "leave the normal doubles); rescale the mesh",
+                  large ? "large" : "small", diagonal, large ? "above" : "below", large ? largest : smallest);
+    throw InvalidMeshError(message);
+}
+
+TriangleMesh scaled_by_power_of_two(const TriangleMesh& mesh, int exponent) {
+    return {mesh.V.unaryExpr([exponent](double x) { return std::ldexp(x, exponent); }), mesh.F};
 }
 
 }  // namespace sdmesh

@@ -60,6 +60,7 @@ void check_geometry(const Triangulation& t) {
 
 Triangulation Triangulation::from_mesh(const TriangleMesh& mesh) {
     require_finite_positions(mesh);
+    require_supported_extent(mesh);
     Triangulation t = connectivity(mesh.F, mesh.num_vertices());
     t.length.resize(t.num_edges());
     detail::prefault(t.length);

@@ -305,6 +305,12 @@ inline std::vector<BadMesh> bad_meshes() {
         {"moebius_strip", moebius_strip(8),                          {0, 1, 0, 6, 0, 6, 0, 0, 0, 0, 6}, true},
         {"nan_coordinate", with_vertex(nan),                         {0, 6, 0, 6, 6, 6, 6, 6, 6, 6, 6}, true},
         {"infinite_coordinate", with_vertex(inf),                    {0, 6, 0, 6, 6, 6, 6, 6, 6, 6, 6}, true},
+        // the supported extents end near 1e±150 (require_supported_extent); heat's t = 0.1 is
+        // then 1e280 times the squared edge length, and refused
+        {"large_coordinates", scaled(1e140),                         {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, false},
+        {"small_coordinates", scaled(1e-140),                        {0, 0, 0, 0, 0, 0, 0, 0, 0, 7, 0}, false},
+        {"too_large_coordinates", scaled(1e160),                     {0, 0, 0, 6, 6, 6, 6, 6, 6, 6, 6}, false},
+        {"too_small_coordinates", scaled(1e-160),                    {0, 0, 0, 6, 6, 6, 6, 6, 6, 6, 6}, false},
         {"huge_coordinates", scaled(1e300),                          {0, 0, 0, 6, 6, 6, 6, 6, 6, 6, 6}, false},
         {"tiny_coordinates", scaled(1e-300),                         {0, 0, 0, 6, 6, 6, 6, 6, 6, 6, 6}, false},
     };

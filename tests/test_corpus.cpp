@@ -37,7 +37,7 @@ double angle_at(const Eigen::Vector3d& apex, const Eigen::Vector3d& a, const Eig
 BruteForce brute_force(const TriangleMesh& mesh) {
     const auto& V = mesh.V;
     const auto& F = mesh.F;
-    const double diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+    const double diagonal = bounding_box_diagonal(mesh);
     std::vector<char> degenerate(F.rows());
     for (int f = 0; f < F.rows(); ++f) {
         const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));

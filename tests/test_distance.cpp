@@ -23,10 +23,6 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 Vector3d corner(const TriangleMesh& mesh, int f, int k) { return mesh.V.row(mesh.F(f, k)).transpose(); }
 
-double bbox_diagonal(const TriangleMesh& mesh) {
-    return (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
-}
-
 // ---- One triangle -------------------------------------------------------------------------------
 
 void expect_closest(const Vector3d& p, const Vector3d& a, const Vector3d& b, const Vector3d& c,
@@ -190,7 +186,24 @@ TEST(Hausdorff, IdenticalMeshesAreAtDistanceZero) {
         // Face samples are on the surface up to the rounding of a + v·ab + w·ac.
         EXPECT_LE(r.hausdorff, 8 * kEps * r.diagonal);
         EXPECT_LE(r.mean_forward, 8 * kEps * r.diagonal);
-        EXPECT_DOUBLE_EQ(r.diagonal, bbox_diagonal(mesh));
+        EXPECT_DOUBLE_EQ(r.diagonal, bounding_box_diagonal(mesh));
+    }
+}
+
+// Measured at the first mesh's unit diagonal by a power of two: the report scales exactly with
+// both meshes. Unscaled, from coordinates of ~1e75 on the normals' squared norms overflowed,
+// every face was taken for a sliver, and the distance grew 7-fold (bunny, decimated).
+TEST(Hausdorff, TheUnitOfLengthOnlyScalesTheDistances) {
+    const TriangleMesh a = make_icosphere(3);
+    TriangleMesh b = a;
+    b.V *= 1.01;
+    const HausdorffReport reference = hausdorff_distance(a, b);
+    for (const int exponent : {-480, 480}) {
+        const HausdorffReport r =
+            hausdorff_distance(scaled_by_power_of_two(a, exponent), scaled_by_power_of_two(b, exponent));
+        EXPECT_EQ(r.hausdorff, std::ldexp(reference.hausdorff, exponent)) << exponent;
+        EXPECT_EQ(r.mean_forward, std::ldexp(reference.mean_forward, exponent)) << exponent;
+        EXPECT_EQ(r.hausdorff_rel, reference.hausdorff_rel) << exponent;
     }
 }
 
@@ -216,7 +229,7 @@ TEST(Hausdorff, ScaledSphereIsAtOnePercent) {
         EXPECT_LE(d, hi);
     }
     EXPECT_EQ(r.hausdorff, std::max(r.forward, r.backward));
-    EXPECT_DOUBLE_EQ(r.diagonal, bbox_diagonal(a));
+    EXPECT_DOUBLE_EQ(r.diagonal, bounding_box_diagonal(a));
     EXPECT_EQ(r.hausdorff_rel, r.hausdorff / r.diagonal);
 }
 

@@ -87,6 +87,34 @@ TEST(SphereSpectrum, EigenvaluesAreLTimesLPlusOneAndConvergeUnderRefinement) {
 
 constexpr EigenSolver kBothSolvers[] = {EigenSolver::block_lanczos, EigenSolver::spectra_lanczos};
 
+// The solve runs on L and M scaled to unit mean diagonals by powers of two, so a mesh in any unit
+// of length gives the same pairs, scaled exactly: λ by 2^-2e, φ by 2^-e. Unscaled, M's entries
+// of ~1e-163 (the bunny at 1e-80) gave negative eigenvalues and residuals of 600 as "converged".
+TEST(SphereSpectrum, TheUnitOfLengthOnlyScalesThePairs) {
+    const TriangleMesh bunny = read_mesh(std::string(SDMESH_TEST_DATA_DIR) + "/bunny.obj");
+    for (EigenSolver solver : kBothSolvers) {
+        const auto solve = [&](const TriangleMesh& mesh) {
+            const Triangulation t = Triangulation::from_mesh(mesh);
+            return smallest_eigenpairs(cotan_laplacian(t), mass_matrix(t), {.k = 8, .solver = solver});
+        };
+        const EigenResult reference = solve(bunny);
+        for (const int exponent : {-480, -260, 250, 480}) {
+            const EigenResult scaled = solve(scaled_by_power_of_two(bunny, exponent));
+            const std::string what = std::string(to_string(solver)) + ", 2^" + std::to_string(exponent);
+            expect_accurate(scaled, what);
+            EXPECT_TRUE(scaled.values == reference.values.unaryExpr([&](double x) { return std::ldexp(x, -2 * exponent); }))
+                << what;
+            EXPECT_TRUE(scaled.vectors ==
+                        reference.vectors.unaryExpr([&](double x) { return std::ldexp(x, -exponent); }))
+                << what;
+        }
+        // Not a power of two: the same to rounding.
+        const EigenResult scaled = solve(TriangleMesh{1e-80 * bunny.V, bunny.F});
+        expect_accurate(scaled, "1e-80");
+        for (int i = 1; i < 8; ++i) EXPECT_NEAR(scaled.values[i] * 1e-160, reference.values[i], 1e-9 * reference.values[i]);
+    }
+}
+
 // Icosphere 1 (42 vertices) lets block Lanczos's basis fill the whole space, where its blocks end
 // up nearly inside the basis.
 TEST(SphereSpectrum, AgreesWithADenseSolve) {

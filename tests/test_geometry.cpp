@@ -32,6 +32,12 @@ TEST(TriangleArea, NeedleIsRelativelyAccurate) {
     }
 }
 
+// Nothing is raised above the square of a length: the whole range where squared lengths exist.
+TEST(TriangleArea, ScalesFrom1e150To1e_150) {
+    for (const double scale : {1e150, 1e100, 1e-100, 1e-150})
+        EXPECT_NEAR(triangle_area(3 * scale, 4 * scale, 5 * scale) / (scale * scale), 6.0, 1e-14) << scale;
+}
+
 TEST(TriangleArea, ViolatedInequalityGivesZero) {
     EXPECT_EQ(triangle_area(1, 1, 3), 0.0);
     EXPECT_EQ(triangle_area(1, 2, 3), 0.0);  // collinear

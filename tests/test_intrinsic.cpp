@@ -289,7 +289,7 @@ class PlanarIntrinsic : public ::testing::TestWithParam<Case> {};
 TEST_P(PlanarIntrinsic, LengthsAreEuclidean) {
     const Fixture& m = fixture(GetParam());
     const Triangulation& t = m.idt.triangulation;
-    const double scale = (m.mesh.V.colwise().maxCoeff() - m.mesh.V.colwise().minCoeff()).norm();
+    const double scale = bounding_box_diagonal(m.mesh);
     for (int e = 0; e < t.num_edges(); ++e) {
         ASSERT_NE(t.E(e, 0), t.E(e, 1));
         const double euclidean = (m.mesh.V.row(t.E(e, 1)) - m.mesh.V.row(t.E(e, 0))).norm();

@@ -307,6 +307,43 @@ TEST(Geodesics, ShortHeatTimeStillReachesTheFarSide) {
     EXPECT_GT(d.maxCoeff(), 0.95 * kPi);
 }
 
+// The work is done at a unit mean edge length, by a power of two: distances scale exactly with the
+// mesh. Unscaled, the gradients' cubes of lengths overflowed (underflowed) from lengths of ~1e100
+// (1e-100) on, and every distance came out NaN.
+TEST(Geodesics, TheUnitOfLengthOnlyScalesTheDistance) {
+    const TriangleMesh sphere = make_icosphere(3);
+    const Eigen::VectorXd reference = heat_geodesic_distance(Triangulation::from_mesh(sphere), {0, 7});
+    for (const int exponent : {-495, -350, 350, 495}) {
+        const Triangulation t = Triangulation::from_mesh(scaled_by_power_of_two(sphere, exponent));
+        const HeatGeodesics geodesics(t);
+        EXPECT_TRUE(geodesics.distance({0, 7}) == reference.unaryExpr([&](double x) { return std::ldexp(x, exponent); }))
+            << exponent;
+        const double h = t.length.mean();
+        EXPECT_EQ(geodesics.report().time, h * h) << exponent;
+    }
+}
+
+// With t far above the squared edge lengths, M + tL loses M to rounding: refused, by name.
+// Below the limit the heat is still conserved (M alone conserves it).
+TEST(Heat, ATimeStepThatSwampsTheMassIsRefused) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(2));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    for (const double time : {1e12, 1e30}) {
+        try {
+            const HeatSolver heat(L, M, time);
+            ADD_FAILURE() << "t = " << time << ": no error";
+        } catch (const InvalidArgumentError& e) {
+            EXPECT_NE(std::string(e.what()).find("take a smaller t"), std::string::npos) << e.what();
+        }
+    }
+    HeatSolver heat(L, M, 1e8);
+    EXPECT_THROW(heat.set_time_step(1e30), InvalidArgumentError);
+    Eigen::VectorXd u0 = Eigen::VectorXd::Zero(L.rows());
+    u0[0] = 1;
+    const Eigen::VectorXd u = heat.step(u0);
+    EXPECT_NEAR((M * u).sum(), M.coeff(0, 0), 1e-6 * M.coeff(0, 0));
+}
+
 TEST(Geodesics, SeveralSourcesGiveTheDistanceToTheNearest) {
     const TriangleMesh mesh = make_icosphere(4);
     const HeatGeodesics geodesics(Triangulation::from_mesh(mesh));

@@ -18,7 +18,7 @@ const sdmesh::TriangleMesh& mesh() { return sdmesh::bench::mesh("oded_koala.obj"
 const sdmesh::TriangleMesh& moved() {
     static const sdmesh::TriangleMesh copy = [] {
         sdmesh::TriangleMesh m = mesh();
-        const double diagonal = (m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).norm();
+        const double diagonal = sdmesh::bounding_box_diagonal(m);
         m.V(0, 2) += 0.01 * diagonal;
         return m;
     }();

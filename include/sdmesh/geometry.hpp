@@ -24,16 +24,25 @@ namespace sdmesh {
     return std::sqrt(squared_distance(p, q));
 }
 
+/// The exponent e with 2^e <= length < 2^(e+1), or 0 for a length that is 0 or not finite.
+/// Coordinates divided by 2^e (exactly) span about 1, so that products of a few lengths neither
+/// overflow nor underflow; results are multiplied back as exactly.
+[[nodiscard]] inline int unit_exponent(double length) {
+    return length > 0 && std::isfinite(length) ? std::ilogb(length) : 0;
+}
+
 /// Triangle area from its three side lengths by Kahan's formula (accurate also for needles).
 /// Lengths that violate the triangle inequality (by rounding or otherwise) give 0.
 [[nodiscard]] inline double triangle_area(double a, double b, double c) {
     // Kahan, "Miscalculating area and angles of a needle-like triangle": sort a >= b >= c and
     // keep the parentheses exactly as written. The sort by min and max has no branch to mispredict.
+    // The four factors go under two square roots, two by two, so that nothing is raised above the
+    // square of a length: lengths from 1e-150 to 1e150 neither overflow nor underflow.
     const double hi = std::max(a, b), lo = std::min(a, b);
     const double largest = std::max(hi, c), middle = std::max(lo, std::min(hi, c)), smallest = std::min(lo, c);
-    const double product = (largest + (middle + smallest)) * (smallest - (largest - middle)) *
-                           (smallest + (largest - middle)) * (largest + (middle - smallest));
-    return product > 0 ? 0.25 * std::sqrt(product) : 0.0;
+    const double outer = (largest + (middle + smallest)) * (largest + (middle - smallest));  // > 0
+    const double inner = (smallest - (largest - middle)) * (smallest + (largest - middle));  // ≤ 0 if degenerate
+    return inner > 0 ? 0.25 * (std::sqrt(outer) * std::sqrt(inner)) : 0.0;
 }
 
 /// b² + c² - opposite² (= 2bc·cos of the angle), evaluated as (p - o)(p + o) + q² with

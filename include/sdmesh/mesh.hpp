@@ -27,4 +27,22 @@ void require_indices_in_range(const TriangleMesh& mesh);
 /// \throws InvalidMeshError naming the first vertex with a NaN or infinite coordinate.
 void require_finite_positions(const TriangleMesh& mesh);
 
+/// The length of the bounding box's diagonal: 0 without vertices, +inf if it overflows.
+[[nodiscard]] double bounding_box_diagonal(const TriangleMesh& mesh);
+
+/// The bounding-box diagonals that operators, solvers, conversion and decimation accept: from
+/// 2^-500 to 2^500 (about 3e-151 to 3e150), where squared lengths, hence areas and masses, are
+/// normal doubles. The Delaunay certificate (sdmesh check) holds at any scale.
+inline constexpr int kMaxExtentExponent = 500;
+
+/// \throws InvalidMeshError naming the diagonal, when it lies outside the supported range (a
+///         mesh whose vertices all coincide has diagonal 0 and passes, for the checks of its
+///         faces; so does a NaN coordinate, for require_finite_positions).
+void require_supported_extent(const TriangleMesh& mesh);
+
+/// The mesh with its coordinates multiplied by 2^exponent, exactly (barring overflow and
+/// underflow): algorithms whose tests multiply several lengths run at the scale of a unit
+/// diagonal (see unit_exponent in geometry.hpp) and give back results in the input's units.
+[[nodiscard]] TriangleMesh scaled_by_power_of_two(const TriangleMesh& mesh, int exponent);
+
 }  // namespace sdmesh

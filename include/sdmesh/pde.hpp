@@ -131,8 +131,16 @@ public:
     [[nodiscard]] const GeodesicReport& report() const { return report_; }
 
 private:
-    HeatGeodesics(const Triangulation& t, const GeodesicOptions& options, std::chrono::steady_clock::time_point start);
-    HeatGeodesics(const Triangulation& t, const GeodesicOptions& options, std::chrono::steady_clock::time_point start,
+    // The work is done on the triangulation with its lengths divided by 2^length_exponent, a unit
+    // mean edge: the gradients hold cubes of lengths, which overflow (underflow) from lengths of
+    // about 1e100 (1e-100) on. Distances are multiplied back.
+    struct UnitLengths {
+        Triangulation t;
+        int length_exponent = 0;
+    };
+    static UnitLengths unit_lengths(const Triangulation& t);
+    HeatGeodesics(const UnitLengths& unit, const GeodesicOptions& options, std::chrono::steady_clock::time_point start);
+    HeatGeodesics(const UnitLengths& unit, const GeodesicOptions& options, std::chrono::steady_clock::time_point start,
                   const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M);
 
     struct Factorizations {
@@ -146,8 +154,9 @@ private:
                                     double time);
 
     int num_vertices_ = 0;
+    int length_exponent_ = 0;
     Eigen::SparseMatrix<double> divergence_;  // −Gᵀ·area: its transpose is −area·∇ per face
-    double time_ = 0;
+    double time_ = 0;  // in unit lengths
     Factorizations solvers_;
     std::vector<int> component_;
     int component_count_ = 0;

@@ -14,6 +14,7 @@
 #include "decimate/mesh_state.hpp"
 #include "sdmesh/distance.hpp"
 #include "sdmesh/error.hpp"
+#include "sdmesh/geometry.hpp"
 #include "sdmesh/validate.hpp"
 
 namespace sdmesh {
@@ -214,15 +215,10 @@ void check_options(const DecimateOptions& o, long long input_vertices, long long
 DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options) {
     const auto start = Clock::now();
     require_indices_in_range(mesh);
+    require_supported_extent(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
     const MeshInfo info = validate(mesh, edges);
-    require_manifold(info, "decimate");
-    if (info.orientation_conflicts > 0)
-        throw InvalidMeshError("decimate: the faces are not consistently oriented (" +
-                               std::to_string(info.orientation_conflicts) + " edges); run sdmesh repair");
-    if (info.zero_area_faces > 0)
-        throw InvalidMeshError("decimate: face " + std::to_string(info.first_zero_area_face) + " has zero area (" +
-                               std::to_string(info.zero_area_faces) + " such faces)");
+    require_oriented_manifold(info, "decimate");
     const CertifyOptions certify_options{.boundary = options.boundary, .tolerance = options.tolerance};
     const long long input_vertices = info.vertices;
     const long long target = options.target_vertices > 0
@@ -241,11 +237,15 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     report.input_vertices = input_vertices;
     report.input_faces = mesh.num_faces();
     report.target_vertices = target;
-    const SpatialOrder ordered = spatial_order(mesh);
+    SpatialOrder ordered = spatial_order(mesh);
+    // Collapses run at the scale of a unit diagonal, by a power of two (exact both ways): the
+    // quadrics hold fourth powers of lengths, which overflow from coordinates of about 1e75 on.
+    const int scale_exponent = unit_exponent(bounding_box_diagonal(ordered.mesh));
+    ordered.mesh = scaled_by_power_of_two(ordered.mesh, -scale_exponent);
     // Two halves of the Morton order: two boxes of space.
     const bool halves = options.halves_from_vertices > 0 && input_vertices >= options.halves_from_vertices;
     const int nv = ordered.mesh.num_vertices();
-    MeshState state(ordered.mesh, build_edge_table(ordered.mesh.F, nv), options, halves ? nv / 2 : nv);
+    MeshState state(ordered.mesh, build_edge_table(ordered.mesh.F, nv), options, halves ? nv / 2 : nv, scale_exponent);
     collapse_to_stops(state, options, halves, target, ordered.input_vertex, result);
     result.mesh = state.result(ordered.input_vertex);
     report.output_vertices = result.mesh.num_vertices();

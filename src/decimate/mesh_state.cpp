@@ -1,6 +1,7 @@
 #include "decimate/mesh_state.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "sdmesh/geometry.hpp"
@@ -41,8 +42,9 @@ void face_samples(const Vec3& a, const Vec3& b, const Vec3& c, std::vector<Vec3>
         }
 }
 
-MeshState::MeshState(const TriangleMesh& mesh, const EdgeTable& edges, const DecimateOptions& options, int split_at)
-    : split(split_at) {
+MeshState::MeshState(const TriangleMesh& mesh, const EdgeTable& edges, const DecimateOptions& options, int split_at,
+                     int exponent)
+    : scale_exponent(exponent), split(split_at) {
     const int nv = mesh.num_vertices(), nf = mesh.num_faces();
     P.resize(static_cast<size_t>(nv));
     for (int v = 0; v < nv; ++v) P[v] = mesh.V.row(v).transpose();
@@ -133,7 +135,7 @@ TriangleMesh MeshState::result(const std::vector<int>& input_vertex) const {
     out.V.resize(static_cast<Eigen::Index>(survivors.size()), 3);
     for (int i = 0; i < static_cast<int>(survivors.size()); ++i) {
         index[survivors[i]] = i;
-        out.V.row(i) = P[survivors[i]].transpose();
+        for (int k = 0; k < 3; ++k) out.V(i, k) = std::ldexp(P[survivors[i]][k], scale_exponent);
     }
     out.F.resize(std::count(face_alive.begin(), face_alive.end(), 1), 3);
     int row = 0;

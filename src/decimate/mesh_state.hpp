@@ -56,9 +56,12 @@ struct Refusal {
 
 struct MeshState {
     /// The state of `mesh` (manifold, oriented, no zero-area face); vertices below `split_at` form
-    /// half 0 and the others half 1 (split_at = the vertex count: one half only).
-    MeshState(const TriangleMesh& mesh, const EdgeTable& edges, const DecimateOptions& options, int split_at);
+    /// half 0 and the others half 1 (split_at = the vertex count: one half only). `mesh` is the
+    /// input divided by 2^scale_exponent; result() multiplies back.
+    MeshState(const TriangleMesh& mesh, const EdgeTable& edges, const DecimateOptions& options, int split_at,
+              int scale_exponent);
 
+    int scale_exponent;
     std::vector<Vec3> P;
     std::vector<std::array<int, 3>> corner;
     std::vector<int> twin;  // per side 3f + k (opposite corner k): the same edge's side in the face across, -1 on the boundary
