@@ -239,6 +239,9 @@ void require_manifold(const MeshInfo& info, const std::string& what) {
 
 void require_oriented_manifold(const MeshInfo& info, const std::string& what) {
     require_manifold(info, what);
+    if (!info.orientable)
+        throw InvalidMeshError(what + ": the surface is not orientable (a Möbius band or the like), which " + what +
+                               " needs");
     if (info.orientation_conflicts > 0)
         throw InvalidMeshError(what + ": the faces are not consistently oriented (" +
                                std::to_string(info.orientation_conflicts) + " edges); run sdmesh repair");

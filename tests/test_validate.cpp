@@ -129,6 +129,13 @@ TEST(Validate, MoebiusStripIsNotOrientable) {
     repair(strip, {}, &report);
     EXPECT_EQ(report.non_orientable_components, 1);
     EXPECT_EQ(report.flipped_faces, 0);
+    // What repair cannot fix is not sent to repair.
+    try {
+        require_oriented_manifold(info, "convert");
+        ADD_FAILURE() << "no error";
+    } catch (const InvalidMeshError& e) {
+        EXPECT_NE(std::string(e.what()).find("not orientable"), std::string::npos) << e.what();
+    }
 }
 
 TEST(Validate, DefectsAreCounted) {
