@@ -17,8 +17,9 @@ HalfedgeMesh::HalfedgeMesh(const Eigen::MatrixX3i& F, const Eigen::MatrixX3i& fa
     // Records written whole, in face order, into premapped pages; twins then scattered per edge.
     const auto num_faces = static_cast<size_t>(F.rows());
     face_.reserve(num_faces);
-    // Flip loops read the records at random: with small pages nearly every read also misses the TLB.
-    detail::request_huge_pages(face_.data(), num_faces * sizeof(Face));
+    // Not on 2 MB pages, though flip loops read the records at random (2 % more flips/s on them):
+    // on the VM measured their first mapping in a process took from 15 ms to 1.4 s per 128 MB,
+    // and the skull's conversion 4.45–5.57 s against 4.48–4.59 s (experiments/README.md).
     detail::prefault(face_.data(), num_faces * sizeof(Face));
     for (int f = 0; f < F.rows(); ++f)
         face_.push_back({{0, 0, 0},

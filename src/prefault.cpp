@@ -10,7 +10,7 @@
 namespace sdmesh::detail {
 namespace {
 
-#if defined(__linux__)
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
 // madvise on the whole pages inside the block; a refusal (old kernel, feature disabled) only
 // leaves the default behaviour.
 void advise_whole_pages(void* data, std::size_t bytes, int advice) {
@@ -27,15 +27,6 @@ void prefault(void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_POPULATE_WRITE)
     constexpr std::size_t kWorthIt = std::size_t(1) << 20;  // below this, faults are cheap enough
     if (data != nullptr && bytes >= kWorthIt) advise_whole_pages(data, bytes, MADV_POPULATE_WRITE);
-#else
-    (void)data;
-    (void)bytes;
-#endif
-}
-
-void request_huge_pages(void* data, std::size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (data != nullptr) advise_whole_pages(data, bytes, MADV_HUGEPAGE);
 #else
     (void)data;
     (void)bytes;

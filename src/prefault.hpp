@@ -15,11 +15,6 @@ namespace sdmesh::detail {
 
 void prefault(void* data, std::size_t bytes);
 
-/// Asks for 2 MB pages on a block not yet written (transparent huge pages in "madvise" mode):
-/// fewer TLB misses for loops that read it at random. Only where measured to help — on the VMs
-/// measured, every large block on huge pages made other loops slower.
-void request_huge_pages(void* data, std::size_t bytes);
-
 /// Prefaults the storage of a freshly sized contiguous container (Eigen dense, std::vector).
 template <class Container>
 void prefault(Container& c) {
