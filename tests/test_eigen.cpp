@@ -113,6 +113,20 @@ TEST(SphereSpectrum, TheUnitOfLengthOnlyScalesThePairs) {
         expect_accurate(scaled, "1e-80");
         for (int i = 1; i < 8; ++i) EXPECT_NEAR(scaled.values[i] * 1e-160, reference.values[i], 1e-9 * reference.values[i]);
     }
+    // A Laplacian of any scale, too (products with one of 2^700 would overflow); it is brought to
+    // a unit mean diagonal, which the cotan Laplacian is not, so the same to rounding only.
+    const Triangulation t = Triangulation::from_mesh(bunny);
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    const EigenResult reference = smallest_eigenpairs(L, M, {.k = 8});
+    for (const int exponent : {-700, 700}) {
+        const EigenResult scaled = smallest_eigenpairs(std::ldexp(1.0, exponent) * L, M, {.k = 8});
+        expect_accurate(scaled, "L times 2^" + std::to_string(exponent));
+        for (int i = 1; i < 8; ++i)
+            EXPECT_NEAR(std::ldexp(scaled.values[i], -exponent), reference.values[i], 1e-10 * reference.values[i]);
+        // The same eigenvectors up to sign (the eigenvalues here are simple).
+        const Eigen::MatrixXd overlap = scaled.vectors.transpose() * M * reference.vectors;
+        for (int i = 1; i < 8; ++i) EXPECT_NEAR(std::abs(overlap(i, i)), 1.0, 1e-8) << i;
+    }
 }
 
 // Icosphere 1 (42 vertices) lets block Lanczos's basis fill the whole space, where its blocks end
