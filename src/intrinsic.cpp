@@ -96,7 +96,12 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
     require_oriented(t);
 
     HalfedgeMesh mesh(t);
-    Eigen::VectorXd length = t.length;
+    // Flips run at a unit mean edge length, reached by a power of two (exact both ways): the LD
+    // test multiplies four lengths, which overflowed from lengths of about 1e75 on (the bunny at
+    // 2^450 made 1.55 million flips, at 2^-460 none).
+    const int exponent = t.num_edges() > 0 ? unit_exponent(t.length.mean()) : 0;
+    const double to_unit = std::ldexp(1.0, -exponent);
+    Eigen::VectorXd length = to_unit * t.length;
     double* const len = length.data();
     const int ne = t.num_edges();
     const long long budget = options.max_flips >= 0 ? options.max_flips : 100LL * ne + 1'000'000;
@@ -115,7 +120,7 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
     for (int f = 0; f < t.num_faces(); ++f) {
         detail::prefetch_sides_ahead(t, f);
         for (int k = 0; k < 3; ++k) {
-            mesh.set_side_length(3 * f + k, t.side(f, k));
+            mesh.set_side_length(3 * f + k, to_unit * t.side(f, k));
             if (cosine_numerator(t.side(f, k), t.side(f, (k + 1) % 3), t.side(f, (k + 2) % 3)) < 0)
                 queued[t.face_edge(f, k)] = 1;
         }
@@ -168,6 +173,7 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
     }
     const auto loop_end = std::chrono::steady_clock::now();
 
+    length *= std::ldexp(1.0, exponent);
     IntrinsicResult result{mesh.to_triangulation(std::move(length)), {}};
     IntrinsicReport& report = result.report;
     report.flip_seconds = std::chrono::duration<double>(loop_end - loop_start).count();

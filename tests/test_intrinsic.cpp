@@ -401,11 +401,14 @@ TEST(Intrinsic, ProperIsTrueOnOrdinaryMeshes) {
     EXPECT_GE(idt.report.seconds, idt.report.flip_seconds);
 }
 
-// Scaling by a power of two is exact in every formula: same flips, lengths scaled exactly.
+// Scaling by a power of two is exact in every formula: same flips, lengths scaled exactly. Far
+// from 1 too: flips run at a unit mean length (at 2^450 the LD test's products of four lengths
+// had overflowed: the bunny made 1.55 million flips instead of 240; at 2^-460, none).
 TEST(Intrinsic, PowerOfTwoScalingIsExact) {
     const TriangleMesh mesh = bumpy(make_grid(12, 10, 1.0, 1.0, 2.5), 0.05);
     const IntrinsicResult reference = intrinsic_delaunay(Triangulation::from_mesh(mesh));
-    for (const double factor : {0x1p-40, 0x1p40}) {
+    ASSERT_GT(reference.report.flips, 0);
+    for (const double factor : {0x1p-460, 0x1p-40, 0x1p40, 0x1p450}) {
         const IntrinsicResult idt = intrinsic_delaunay(Triangulation::from_mesh(scaled(mesh, factor)));
         EXPECT_EQ(idt.report.flips, reference.report.flips);
         EXPECT_EQ(idt.triangulation.F, reference.triangulation.F);

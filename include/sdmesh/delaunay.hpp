@@ -32,6 +32,8 @@ enum class BoundaryPolicy {
 
 /// π - (α + β) for a hinge with edge length l, first face (l, a, b), second face (l, c, d), in
 /// [-π, π], from lengths only (one atan2; accurate for needles and near-co-circular hinges).
+/// This and the functions below multiply up to four lengths: keep them within about 1e±75
+/// (callers at other scales divide the lengths by a power of two first, as intrinsic_delaunay).
 [[nodiscard]] double delaunay_margin(double l, double a, double b, double c, double d);
 
 /// The verdict delaunay_margin(l, a, b, c, d) >= -tolerance, without evaluating the angle: for
