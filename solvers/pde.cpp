@@ -23,6 +23,11 @@ void check_vector(const Eigen::VectorXd& x, Eigen::Index size, const char* who, 
     if (x.size() != size)
         throw InvalidArgumentError(std::string(who) + ": " + what + " has " + std::to_string(x.size()) +
                                    " entries, expected " + std::to_string(size));
+    // A NaN would spread through the solve and come out as a NaN solution without an error.
+    for (Eigen::Index i = 0; i < size; ++i)
+        if (!std::isfinite(x[i]))
+            throw InvalidArgumentError(std::string(who) + ": " + what + " has a non-finite entry at " +
+                                       std::to_string(i) + " (" + std::to_string(x[i]) + ")");
 }
 
 void check_time_step(double t, const char* who) {

@@ -202,6 +202,11 @@ TEST(Poisson, ArgumentsAreChecked) {
     const PoissonSolver poisson(L, M, {0, 1});
     EXPECT_THROW((void)poisson.solve(Eigen::VectorXd::Ones(41)), InvalidArgumentError);
     EXPECT_THROW((void)poisson.solve(Eigen::VectorXd::Ones(42), Eigen::VectorXd::Ones(3)), InvalidArgumentError);
+    // A NaN or an infinity would come out as a NaN solution.
+    Eigen::VectorXd b = Eigen::VectorXd::Ones(42);
+    b[7] = std::nan("");
+    EXPECT_THROW((void)poisson.solve(b), InvalidArgumentError);
+    EXPECT_THROW((void)poisson.solve(Eigen::VectorXd::Ones(42), Eigen::Vector2d(0, HUGE_VAL)), InvalidArgumentError);
     // No faces: L = M = 0, so every u solves L u = M f.
     const Sparse zero(3, 3);
     EXPECT_THROW(PoissonSolver(zero, zero), NumericalError);
@@ -253,6 +258,7 @@ TEST(Heat, ArgumentsAreChecked) {
     EXPECT_THROW(heat.set_time_step(-1.0), InvalidArgumentError);
     EXPECT_THROW((void)heat.step(Eigen::VectorXd::Ones(41)), InvalidArgumentError);
     EXPECT_THROW((void)heat.step(Eigen::VectorXd::Ones(42), -1), InvalidArgumentError);
+    EXPECT_THROW((void)heat.step(Eigen::VectorXd::Constant(42, -HUGE_VAL)), InvalidArgumentError);
 }
 
 // ---- heat-method geodesics ---------------------------------------------------------------------------
@@ -524,6 +530,13 @@ TEST_F(Cli, ValueFilesTakeEveryFiniteDoubleAndRejectWhatUnderflows) {
     EXPECT_EQ(read_vertex_field(read(dir_ / "u.ply"), "u", n)[3], 3.56e-313);
     EXPECT_EQ(run("poisson " + sphere + f + " --dirichlet " + (dir_ / "underflow.txt").string() + out), 5);
     EXPECT_NE(read(dir_ / "err.txt").find("'1e-400' is out of double range"), std::string::npos) << read(dir_ / "err.txt");
+    // from_chars reads "nan" and "inf": refused by name, not solved into a NaN field.
+    for (const char* value : {"nan", "-inf", "1.5x"}) {
+        std::ofstream(dir_ / "bad.txt") << "3 " << value << "\n";
+        EXPECT_EQ(run("poisson " + sphere + f + " --dirichlet " + (dir_ / "bad.txt").string() + out), 5) << value;
+        EXPECT_NE(read(dir_ / "err.txt").find("bad.txt:1: '" + std::string(value) + "' is not"), std::string::npos)
+            << read(dir_ / "err.txt");
+    }
 }
 
 }  // namespace

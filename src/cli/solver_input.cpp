@@ -1,6 +1,7 @@
 #include "cli/solver_input.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -84,9 +85,12 @@ Eigen::MatrixXd read_table(const std::string& path, int columns) {
             const char* first = field.data() + (field.size() > 1 && field[0] == '+' && field[1] != '-');
             double value = 0;
             const auto [end, error] = std::from_chars(first, field.data() + field.size(), value);
-            if (error != std::errc() || end != field.data() + field.size())
+            const bool parsed = error == std::errc() && end == field.data() + field.size();
+            if (!parsed || !std::isfinite(value))
                 throw ParseError(path + ":" + std::to_string(line_number) + ": '" + field + "' is " +
-                                 (error == std::errc::result_out_of_range ? "out of double range" : "not a number"));
+                                 (error == std::errc::result_out_of_range ? "out of double range"
+                                  : parsed                                ? "not finite"
+                                                                          : "not a number"));
             values.push_back(value);
         }
         if (count != columns)
