@@ -175,12 +175,18 @@ TEST(DecimateBoundary, FreePolicyKeepsTheLoopsToo) {
 // on, and the bunny at 1e100 stalled at 1,816 vertices for a target of 1,067.
 TEST(DecimateInput, TheUnitOfLengthOnlyScalesTheOutput) {
     const TriangleMesh mesh = self_delaunay("torus");
-    const DecimateOptions options{.target_ratio = 0.3, .max_error = 0.02, .halves_from_vertices = 100};
+    const DecimateOptions options{.target_ratio = 0.3,
+                                  .max_error = 0.02,
+                                  .levels = {mesh.num_vertices() * 6 / 10},
+                                  .halves_from_vertices = 100};
     const DecimateResult reference = decimate(mesh, options);
+    ASSERT_EQ(reference.levels.size(), 1u);
     for (const int exponent : {-300, 300}) {
         const DecimateResult r = decimate(scaled_by_power_of_two(mesh, exponent), options);
         EXPECT_EQ(r.mesh.F, reference.mesh.F) << exponent;
         EXPECT_TRUE(r.mesh.V == scaled_by_power_of_two(reference.mesh, exponent).V) << exponent;
+        ASSERT_EQ(r.levels.size(), 1u);
+        EXPECT_TRUE(r.levels[0].V == scaled_by_power_of_two(reference.levels[0], exponent).V) << exponent;
         EXPECT_EQ(r.report.hausdorff_rel, reference.report.hausdorff_rel) << exponent;
         EXPECT_EQ(r.report.rejected.max_error, reference.report.rejected.max_error) << exponent;
     }
