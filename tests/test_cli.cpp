@@ -63,6 +63,12 @@ TEST_F(Cli, EveryCommandPrintsItsOwnHelp) {
     EXPECT_NE(run_cli("eigs -h").out.find("--tolerance T"), std::string::npos);
 }
 
+TEST_F(Cli, PrintsItsVersion) {
+    const CliRun r = run_cli("--version");
+    EXPECT_EQ(r.code, 0);
+    EXPECT_EQ(r.out, "sdmesh " SDMESH_TEST_VERSION "\n");
+}
+
 TEST_F(Cli, SelfDelaunayMeshExitsZero) {
     write_mesh(path("sphere.off"), make_icosphere(2));
     const CliRun r = run_cli("check " + path("sphere.off"));

@@ -18,7 +18,7 @@ namespace {
 
 using namespace sdmesh::cli;
 
-constexpr std::string_view kHelpText = R"(usage: sdmesh COMMAND [ARGS...]
+constexpr std::string_view kHelpText = R"(usage: sdmesh COMMAND [ARGS...]   (sdmesh --version: the version)
 
 Commands:
   info MESH                       topology and defects of a mesh, human-readable
@@ -131,6 +131,10 @@ int main(int argc, char** argv) {
     if (words.empty() || words[0] == "--help" || words[0] == "-h" || words[0] == "help") {
         std::cout << kHelpText;
         return words.empty() ? kUsage : kSuccess;
+    }
+    if (words[0] == "--version") {
+        std::cout << "sdmesh " << SDMESH_VERSION << '\n';
+        return kSuccess;
     }
     for (const Command& command : kCommands) {
         if (words[0] != command.name) continue;
