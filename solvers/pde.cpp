@@ -182,8 +182,11 @@ std::vector<int> boundary_vertices(const Triangulation& t) {
 
 HeatGeodesics::UnitLengths HeatGeodesics::unit_lengths(const Triangulation& t) {
     if (t.num_edges() == 0) throw InvalidArgumentError("geodesics: the triangulation has no edges");
-    UnitLengths unit{t, unit_exponent(t.length.mean())};
-    for (double& l : unit.t.length) l = std::ldexp(l, -unit.length_exponent);
+    UnitLengths unit{t, std::nullopt, far_unit_exponent(t.length.mean())};
+    if (unit.length_exponent != 0) {
+        unit.scaled = t;
+        for (double& l : unit.scaled->length) l = std::ldexp(l, -unit.length_exponent);
+    }
     return unit;
 }
 
@@ -192,7 +195,7 @@ HeatGeodesics::HeatGeodesics(const Triangulation& t, const GeodesicOptions& opti
 
 HeatGeodesics::HeatGeodesics(const UnitLengths& unit, const GeodesicOptions& options,
                              std::chrono::steady_clock::time_point start)
-    : HeatGeodesics(unit, options, start, cotan_laplacian(unit.t), mass_matrix(unit.t, options.mass)) {}
+    : HeatGeodesics(unit, options, start, cotan_laplacian(unit.t()), mass_matrix(unit.t(), options.mass)) {}
 
 // Not CHOLMOD's default ordering: on meshes AMD's fill is always high enough that the default
 // computes METIS's too and discards AMD's. Coarse nested dissection is ~40 % faster to compute
@@ -237,11 +240,11 @@ HeatGeodesics::Factorizations HeatGeodesics::factorize(const Triangulation& t, c
 
 HeatGeodesics::HeatGeodesics(const UnitLengths& unit, const GeodesicOptions& options,
                              std::chrono::steady_clock::time_point start, const Sparse& L, const Sparse& M)
-    : num_vertices_(unit.t.num_vertices),
+    : num_vertices_(unit.t().num_vertices),
       length_exponent_(unit.length_exponent),
-      divergence_(divergence(unit.t)),
-      time_(heat_time(unit.t, unit.length_exponent, options)),
-      solvers_(factorize(unit.t, options, L, M, time_)) {
+      divergence_(divergence(unit.t())),
+      time_(heat_time(unit.t(), unit.length_exponent, options)),
+      solvers_(factorize(unit.t(), options, L, M, time_)) {
     report_.boundary_vertices = solvers_.dirichlet_vertices;
     component_ = detail::connected_components(L, component_count_);
     report_.time = std::ldexp(time_, 2 * length_exponent_);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "sdmesh/error.hpp"
@@ -273,10 +274,13 @@ HausdorffReport hausdorff_distance(const TriangleMesh& a, const TriangleMesh& b,
         throw InvalidArgumentError("hausdorff_distance: samples_per_face (" + std::to_string(options.samples_per_face) +
                                    ") and max_samples (" + std::to_string(options.max_samples) + ") must be >= 1");
     // Both meshes are measured at the scale of a unit diagonal of the first, by a power of two
-    // (exact): normals are cross products, whose squared norms overflow from coordinates of about
-    // 1e75 on (every face then looked too thin to have one).
-    const int exponent = unit_exponent(bounding_box_diagonal(a));
-    const TriangleMesh unit_a = scaled_by_power_of_two(a, -exponent), unit_b = scaled_by_power_of_two(b, -exponent);
+    // (exact; copies only far from it): normals are cross products, whose squared norms overflow
+    // from coordinates of about 1e75 on (every face then looked too thin to have one).
+    const int exponent = far_unit_exponent(bounding_box_diagonal(a));
+    std::optional<TriangleMesh> scaled_a, scaled_b;
+    if (exponent != 0) scaled_a = scaled_by_power_of_two(a, -exponent), scaled_b = scaled_by_power_of_two(b, -exponent);
+    const TriangleMesh& unit_a = scaled_a ? *scaled_a : a;
+    const TriangleMesh& unit_b = scaled_b ? *scaled_b : b;
     const TriangleTree tree_a = tree_of(unit_a, "first");
     const TriangleTree tree_b = tree_of(unit_b, "second");
     const OneSided forward = sample_distances(unit_a, tree_b, options);

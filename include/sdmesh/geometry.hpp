@@ -31,6 +31,15 @@ namespace sdmesh {
     return length > 0 && std::isfinite(length) ? std::ilogb(length) : 0;
 }
 
+/// unit_exponent(length) when it lies beyond ±64, else 0. Within 2^±64 of 1 products of a few
+/// lengths stay far inside the double range, and scaling by a power of two (exact) would not
+/// change a bit of the results: callers that must copy their input to scale it skip the copy.
+[[nodiscard]] inline int far_unit_exponent(double length) {
+    constexpr int kNearOne = 64;
+    const int exponent = unit_exponent(length);
+    return exponent > kNearOne || exponent < -kNearOne ? exponent : 0;
+}
+
 /// Triangle area from its three side lengths by Kahan's formula (accurate also for needles).
 /// Lengths that violate the triangle inequality (by rounding or otherwise) give 0.
 [[nodiscard]] inline double triangle_area(double a, double b, double c) {

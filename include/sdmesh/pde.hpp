@@ -132,11 +132,14 @@ public:
 
 private:
     // The work is done on the triangulation with its lengths divided by 2^length_exponent, a unit
-    // mean edge: the gradients hold cubes of lengths, which overflow (underflow) from lengths of
-    // about 1e100 (1e-100) on. Distances are multiplied back.
+    // mean edge (a copy, only when the mean is far from 1): the gradients hold cubes of lengths,
+    // which overflow (underflow) from lengths of about 1e100 (1e-100) on. Distances are
+    // multiplied back.
     struct UnitLengths {
-        Triangulation t;
+        const Triangulation& input;
+        std::optional<Triangulation> scaled;  // only far from a unit length (far_unit_exponent)
         int length_exponent = 0;
+        [[nodiscard]] const Triangulation& t() const { return scaled ? *scaled : input; }
     };
     static UnitLengths unit_lengths(const Triangulation& t);
     HeatGeodesics(const UnitLengths& unit, const GeodesicOptions& options, std::chrono::steady_clock::time_point start);
