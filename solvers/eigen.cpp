@@ -97,20 +97,19 @@ void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& optio
                                  "circumcentric dual cell, which conversion to self-Delaunay removes)");
 }
 
-// Powers of two that bring the mean diagonal entries of M near 1 (a power of four, so that its
-// square root is exact too), and of L when it is far from 1. Eigenpairs scale exactly with them,
-// and the solve is then the same for a mesh in any unit of length: at 1e-80 or 1e100 M's entries
-// would otherwise take Lanczos and the factorization out of the double range. A cotan Laplacian
-// does not depend on the unit, so it is left alone (a copy of it cost nefertiti ~2 %).
+// Powers of two that bring the mean diagonal entries of L and M near 1 when they are far from it
+// (M's a power of four, so that its square root is exact too): at 1e-80 or 1e100 M's entries
+// would otherwise take Lanczos and the factorization out of the double range. Eigenpairs scale
+// exactly with them, and nearer to 1 the scaling would change no bit (tested), so L and M are
+// not copied for it (a copy of L cost nefertiti ~2 %).
 struct UnitScales {
     double stiffness = 1, mass = 1;
 };
 
 UnitScales unit_scales(const Sparse& L, const Sparse& M) {
-    constexpr int kFarFromOne = 100;  // exponents of the mean diagonal of L left alone
     const double n = static_cast<double>(L.rows());
-    const int stiffness = unit_exponent(L.diagonal().sum() / n), mass = unit_exponent(M.diagonal().sum() / n);
-    return {std::abs(stiffness) > kFarFromOne ? std::ldexp(1.0, -stiffness) : 1.0, std::ldexp(1.0, -2 * (mass / 2))};
+    const int mass = far_unit_exponent(M.diagonal().sum() / n);
+    return {std::ldexp(1.0, -far_unit_exponent(L.diagonal().sum() / n)), std::ldexp(1.0, -2 * (mass / 2))};
 }
 
 // storage = factor · source, in place when source is storage.

@@ -238,10 +238,11 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     report.input_faces = mesh.num_faces();
     report.target_vertices = target;
     SpatialOrder ordered = spatial_order(mesh);
-    // Collapses run at the scale of a unit diagonal, by a power of two (exact both ways): the
-    // quadrics hold fourth powers of lengths, which overflow from coordinates of about 1e75 on.
-    const int scale_exponent = unit_exponent(bounding_box_diagonal(ordered.mesh));
-    ordered.mesh = scaled_by_power_of_two(ordered.mesh, -scale_exponent);
+    // Collapses run at the scale of a unit diagonal, by a power of two (exact both ways; only far
+    // from it): the quadrics hold fourth powers of lengths, which overflow from coordinates of
+    // about 1e75 on.
+    const int scale_exponent = far_unit_exponent(bounding_box_diagonal(ordered.mesh));
+    if (scale_exponent != 0) ordered.mesh = scaled_by_power_of_two(ordered.mesh, -scale_exponent);
     // Two halves of the Morton order: two boxes of space.
     const bool halves = options.halves_from_vertices > 0 && input_vertices >= options.halves_from_vertices;
     const int nv = ordered.mesh.num_vertices();
