@@ -133,31 +133,6 @@ void HalfedgeMesh::merge(int h) {
     glue(h, t, e);
 }
 
-std::vector<int> HalfedgeMesh::compact() {
-    std::vector<int> new_face(face_.size(), -1), new_edge(edge_halfedge_.size(), -1);
-    int faces_kept = 0, edges_kept = 0;
-    for (size_t f = 0; f < face_.size(); ++f)
-        if (face_[f].corner[0] >= 0) new_face[f] = faces_kept++;
-    for (size_t e = 0; e < edge_halfedge_.size(); ++e)
-        if (edge_halfedge_[e] >= 0) new_edge[e] = edges_kept++;
-    auto renumbered = [&](int h) { return h < 0 ? -1 : 3 * new_face[h / 3] + h % 3; };
-    // Records only move down, so each is read before its slot is written.
-    for (size_t f = 0; f < face_.size(); ++f) {
-        if (new_face[f] < 0) continue;
-        Face record = face_[f];
-        for (int k = 0; k < 3; ++k) {
-            record.twin[k] = renumbered(record.twin[k]);
-            record.edge[k] = new_edge[record.edge[k]];
-        }
-        face_[new_face[f]] = record;
-    }
-    face_.resize(static_cast<size_t>(faces_kept));
-    for (size_t e = 0; e < edge_halfedge_.size(); ++e)
-        if (new_edge[e] >= 0) edge_halfedge_[new_edge[e]] = renumbered(edge_halfedge_[e]);
-    edge_halfedge_.resize(static_cast<size_t>(edges_kept));
-    return new_edge;
-}
-
 bool HalfedgeMesh::has_edge_between(int c, int v) const {
     // Around the vertex of corner c: the face across the side leaving it (prev) holds the vertex
     // at slot prev(twin); across the side entering it (next), at slot next(twin).
@@ -213,9 +188,14 @@ Triangulation HalfedgeMesh::to_triangulation(Eigen::VectorXd length) const {
 }
 
 Eigen::MatrixX3i HalfedgeMesh::faces() const {
-    Eigen::MatrixX3i F(num_faces(), 3);
-    for (int f = 0; f < num_faces(); ++f)
-        for (int k = 0; k < 3; ++k) F(f, k) = corner(f, k);
+    int kept = 0;
+    for (int f = 0; f < num_faces(); ++f) kept += !is_removed_face(f);
+    Eigen::MatrixX3i F(kept, 3);
+    for (int f = 0, row = 0; f < num_faces(); ++f)
+        if (!is_removed_face(f)) {
+            for (int k = 0; k < 3; ++k) F(row, k) = corner(f, k);
+            ++row;
+        }
     return F;
 }
 

@@ -48,6 +48,8 @@ public:
     void prefetch(int h) const {
         if (h >= 0) __builtin_prefetch(&face_[h / 3]);
     }
+    /// Requests the record of edge e into the cache.
+    void prefetch_edge(int e) const { __builtin_prefetch(&edge_halfedge_[e]); }
 
     /// Replaces the diagonal of the two faces on interior edge e: with h = halfedge(e) in face
     /// (p, q, r) and its twin in (q, p, s), the faces become (r, p, s) and (s, q, r). The edge
@@ -69,15 +71,13 @@ public:
     /// from p to q, and x's only other neighbours are r and, across the line, s (none on a
     /// boundary line). The faces of h and of its twin become (r, p, q) and (s, q, p), and edge(h)
     /// joins p and q; their side lengths are left to the caller. x is left without faces. The
-    /// other two faces and three edges are marked removed until compact().
+    /// other two faces and three edges stay in place, marked removed (their ids are not reused).
     void merge(int h);
 
-    /// True for an edge that merge() removed (until compact()).
+    /// True for an edge that merge() removed.
     [[nodiscard]] bool is_removed_edge(int e) const { return edge_halfedge_[e] < 0; }
-
-    /// Drops what merge() removed; the faces and edges left keep their order. Returns the new
-    /// id of every old edge (-1 for a removed one).
-    std::vector<int> compact();
+    /// True for a face that merge() removed.
+    [[nodiscard]] bool is_removed_face(int f) const { return face_[f].corner[0] < 0; }
 
     /// True if some edge joins the vertex at corner slot c (= 3f + k) to vertex v: the faces
     /// around that corner are walked through their twins, both ways on a boundary.
@@ -85,10 +85,10 @@ public:
 
     /// Writes the current faces and a per-edge array into a Triangulation (lengths are the
     /// caller's, indexed by edge id); E(e,·) is ordered so that E(e,0) <= E(e,1). On a self-edge
-    /// the side listed first in edge_halfedges gets sign +1 and its twin -1.
+    /// the side listed first in edge_halfedges gets sign +1 and its twin -1. \pre no merge().
     [[nodiscard]] Triangulation to_triangulation(Eigen::VectorXd length) const;
 
-    /// The faces as an |F| x 3 array.
+    /// The faces as an array with one row per face, in order, without those merge() removed.
     [[nodiscard]] Eigen::MatrixX3i faces() const;
 
 private:

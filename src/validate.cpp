@@ -68,6 +68,7 @@ std::vector<char> duplicate_faces(const Eigen::MatrixX3i& F, int num_vertices) {
         keys[fill[a]++] = {(std::uint64_t(std::uint32_t(b)) << 32) | std::uint32_t(c), f};
     }
     std::vector<char> duplicate(static_cast<size_t>(num_faces), 0);
+#pragma omp parallel for schedule(dynamic, 4096)
     for (int v = 0; v < num_vertices; ++v) {
         const auto begin = keys.begin() + bucket_start[v], end = keys.begin() + bucket_start[v + 1];
         std::sort(begin, end);
@@ -159,10 +160,13 @@ MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges) {
     const std::vector<int> representative = coincident_representatives(V, referenced);
     for (int v = 0; v < num_vertices; ++v) info.duplicate_vertex_positions += representative[v] != v;
 
+    // Faces are independent: counted in parallel, the first of each kind by the smallest index.
+    int repeated = 0, zero_area = 0, first_repeated = info.faces, first_zero_area = info.faces;
+#pragma omp parallel for schedule(static) reduction(+ : repeated, zero_area) reduction(min : first_repeated, first_zero_area)
     for (int f = 0; f < info.faces; ++f) {
         if (has_repeated_index(F, f)) {
-            ++info.repeated_index_faces;
-            if (info.first_repeated_index_face < 0) info.first_repeated_index_face = f;
+            ++repeated;
+            first_repeated = std::min(first_repeated, f);
             continue;
         }
         double l[3];
@@ -170,31 +174,43 @@ MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges) {
             l[k] = distance(V.row(F(f, (k + 1) % 3)).transpose(), V.row(F(f, (k + 2) % 3)).transpose());
         const double longest = std::max({l[0], l[1], l[2]});
         if (std::isfinite(longest) && triangle_area(l[0], l[1], l[2]) <= 1e-12 * longest * longest) {
-            if (info.zero_area_faces == 0) info.first_zero_area_face = f;
-            ++info.zero_area_faces;
+            ++zero_area;
+            first_zero_area = std::min(first_zero_area, f);
         }
     }
+    info.repeated_index_faces = repeated;
+    info.zero_area_faces = zero_area;
+    if (repeated > 0) info.first_repeated_index_face = first_repeated;
+    if (zero_area > 0) info.first_zero_area_face = first_zero_area;
     info.degenerate_faces = info.repeated_index_faces + info.zero_area_faces;
     const std::vector<char> duplicate = duplicate_faces(F, num_vertices);
     info.duplicate_faces = static_cast<int>(std::count(duplicate.begin(), duplicate.end(), 1));
 
-    UnionFind boundary_graph(num_vertices);
-    std::vector<char> on_boundary(num_vertices, 0);
+    int boundary = 0, interior = 0, conflicts = 0, nonmanifold = 0, first_nonmanifold = info.edges;
+#pragma omp parallel for schedule(static) reduction(+ : boundary, interior, conflicts, nonmanifold) reduction(min : first_nonmanifold)
     for (int e = 0; e < info.edges; ++e) {
         const int count = edges.face_count[e];
         if (count == 1) {
-            ++info.boundary_edges;
-            boundary_graph.unite(edges.E(e, 0), edges.E(e, 1));
-            on_boundary[edges.E(e, 0)] = on_boundary[edges.E(e, 1)] = 1;
+            ++boundary;
         } else if (count == 2) {
-            ++info.interior_edges;
-            if (same_direction(F, edges.edge_halfedges(e, 0), edges.edge_halfedges(e, 1)))
-                ++info.orientation_conflicts;
+            ++interior;
+            conflicts += same_direction(F, edges.edge_halfedges(e, 0), edges.edge_halfedges(e, 1));
         } else {
-            if (info.nonmanifold_edges == 0) info.first_nonmanifold_edge = edges.E.row(e).transpose();
-            ++info.nonmanifold_edges;
+            ++nonmanifold;
+            first_nonmanifold = std::min(first_nonmanifold, e);
         }
     }
+    info.boundary_edges = boundary, info.interior_edges = interior;
+    info.orientation_conflicts = conflicts, info.nonmanifold_edges = nonmanifold;
+    if (nonmanifold > 0) info.first_nonmanifold_edge = edges.E.row(first_nonmanifold).transpose();
+    UnionFind boundary_graph(num_vertices);
+    std::vector<char> on_boundary(num_vertices, 0);
+    if (boundary > 0)
+        for (int e = 0; e < info.edges; ++e)
+            if (edges.face_count[e] == 1) {
+                boundary_graph.unite(edges.E(e, 0), edges.E(e, 1));
+                on_boundary[edges.E(e, 0)] = on_boundary[edges.E(e, 1)] = 1;
+            }
     info.nonmanifold_vertices = static_cast<int>(edges.nonmanifold_vertices.size());
     if (info.nonmanifold_vertices > 0) info.first_nonmanifold_vertex = edges.nonmanifold_vertices.front();
 
