@@ -232,15 +232,18 @@ private:
         };
         // Planes: input faces joined across flat input edges (one face each without them).
         const bool any_flat = std::find(input_flat_.begin(), input_flat_.end(), 1) != input_flat_.end();
-        UnionFind planes(any_flat ? input_faces : 0);
-        if (any_flat)
+        std::vector<int> plane_of(any_flat ? input_faces : 0);  // by face: its plane's representative
+        if (any_flat) {
+            UnionFind planes(input_faces);
             for (int e = 0; e < edges; ++e)
                 if (input_flat_[e]) planes.unite(faces_of(e)[0], faces_of(e)[1]);
+            for (int f = 0; f < input_faces; ++f) plane_of[f] = planes.find(f);
+        }
         const Buckets plane_faces(any_flat ? input_faces : 0, any_flat ? input_faces : 0,
-                                  [&](int f) { return planes.find(f); });
+                                  [&](int f) { return plane_of[f]; });
         auto for_each_face_in_plane_of = [&](int f, auto&& visit) {
             if (!any_flat) return visit(f);
-            for (const int face : plane_faces[planes.find(f)]) visit(face);
+            for (const int face : plane_faces[plane_of[f]]) visit(face);
         };
         // The split points on each input edge (removed ones are skipped when read).
         const int split_points = static_cast<int>(P_.size());
@@ -263,12 +266,12 @@ private:
         if (any_flat) {
             std::vector<int> points(input_faces, 0);
             for (int f = 0; f < input_faces; ++f) {
-                int& n = points[planes.find(f)];
+                int& n = points[plane_of[f]];
                 for (int k = 0; k < 3; ++k) n += 1 + static_cast<int>(on_edge[input_edges_.face_edge(f, k)].size());
-                if (n > kMaxPlanePoints) plane_too_big[planes.find(f)] = 1;
+                if (n > kMaxPlanePoints) plane_too_big[plane_of[f]] = 1;
             }
         }
-        auto is_too_big = [&](int f) { return f >= 0 && any_flat && plane_too_big[planes.find(f)]; };
+        auto is_too_big = [&](int f) { return f >= 0 && any_flat && plane_too_big[plane_of[f]]; };
         // Cotangent of the angle under which y sees p-q (+inf on their line).
         auto cotangent = [&](int y, int p, int q) {
             const Eigen::Vector3d a = P_[p] - P_[y], b = P_[q] - P_[y];
