@@ -67,50 +67,6 @@ private:
     std::vector<int> start_, items_;
 };
 
-// Physical edges to test, longest first (equal lengths: larger id first). The edges queued at the
-// start are sorted once and popped in order, which lets the converter see the next ones coming
-// (see Converter::pop); edges queued later go to a heap. Either way the pops come in the same
-// order as from one heap.
-class LongestFirstQueue {
-public:
-    using Entry = std::pair<double, int>;  // (length, edge)
-
-    void push(double length, int e) {
-        if (batching_)
-            sorted_.emplace_back(length, e);
-        else
-            heap_.emplace(length, e);
-    }
-    // Pushes until end_batch() are collected and sorted at once.
-    void begin_batch() { batching_ = true; }
-    void end_batch() {
-        std::sort(sorted_.begin(), sorted_.end());
-        batching_ = false;
-    }
-
-    [[nodiscard]] bool empty() const { return sorted_.empty() && heap_.empty(); }
-    [[nodiscard]] size_t size() const { return sorted_.size() + heap_.size(); }
-    int pop() {
-        if (!sorted_.empty() && (heap_.empty() || heap_.top() < sorted_.back())) {
-            const int e = sorted_.back().second;
-            sorted_.pop_back();
-            return e;
-        }
-        const int e = heap_.top().second;
-        heap_.pop();
-        return e;
-    }
-    // The edge of the sorted run that pop() will return `ahead` pops of that run from now, -1 past its end.
-    [[nodiscard]] int upcoming(size_t ahead) const {
-        return ahead < sorted_.size() ? sorted_[sorted_.size() - 1 - ahead].second : -1;
-    }
-
-private:
-    std::vector<Entry> sorted_;  // increasing: the next one is at the back
-    std::priority_queue<Entry> heap_;
-    bool batching_ = false;
-};
-
 // Lawson-style conversion on a HalfedgeMesh with positions; one instance per convert() call.
 class Converter {
 public:
@@ -157,14 +113,12 @@ public:
             input_flat_[e] = is_flat(e, coplanar_angle_);
             queue_key[e] = is_delaunay(e) ? std::numeric_limits<double>::quiet_NaN() : queue_length(e);
         }
-        physical_queue_.begin_batch();
         for (int e = 0; e < edges; ++e) {
             if (std::isnan(queue_key[e])) continue;
             ++report.input_non_delaunay_edges;
             if (!input_flat_[e]) ++report.input_nonflat_non_delaunay_edges;
             enqueue(e, queue_key[e]);
         }
-        physical_queue_.end_batch();
         vertex_budget_ = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
         flip_budget_ = options_.max_flips > 0 ? options_.max_flips : 100LL * mesh_.num_edges() + 1'000'000;
         drain(report);
@@ -417,8 +371,7 @@ private:
             return options_.boundary == BoundaryPolicy::free ||
                    boundary_margin(l, dist(k.a, k.r), dist(k.b, k.r)) >= -options_.tolerance;
         const double ar = dist(k.a, k.r), br = dist(k.b, k.r), as = dist(k.a, k.s), bs = dist(k.b, k.s);
-        return is_locally_delaunay_scaled(4.0 * triangle_area(l, ar, br), cosine_numerator(l, ar, br),
-                                          4.0 * triangle_area(l, as, bs), cosine_numerator(l, as, bs), tan_tolerance_);
+        return is_locally_delaunay_with_tangent(l, ar, br, as, bs, tan_tolerance_);
     }
 
     // Interior edge known to lie inside a plane, or whose face normals differ by at most
@@ -608,8 +561,6 @@ private:
         return from_b ? Interval{0, l - reach} : Interval{reach, l};
     }
 
-    // Ruppert's concentric shells: from the endpoint that is an input vertex, at the power-of-two
-    // multiple of a fixed unit that lies in [l/3, 2l/3); the midpoint if none or both are.
     // Shells around input vertex c on the edge line of hinge k: the distance from c on the
     // coarsest grid of power-of-two multiples of the shell unit that falls in the middle third
     // of the piece a-b (length l); returned as the distance from a.
@@ -647,6 +598,8 @@ private:
         return at_a ? a : b;
     }
 
+    // Ruppert's concentric shells: from the endpoint that is an input vertex, at the power-of-two
+    // multiple of a fixed unit that lies in [l/3, 2l/3); the midpoint if none or both are.
     double shell_distance(int a, int b, double l) const {
         const bool a_input = a < input_vertices_, b_input = b < input_vertices_;
         if (a_input == b_input) return 0.5 * l;
@@ -709,7 +662,7 @@ private:
         if (length < 0)
             flat_queue_.push_back(e);
         else
-            physical_queue_.push(length, e);
+            physical_queue_.emplace(length, e);
     }
 
     int pop() {
@@ -718,26 +671,11 @@ private:
             e = flat_queue_.back();
             flat_queue_.pop_back();
         } else if (!physical_queue_.empty()) {
-            e = physical_queue_.pop();
-            prefetch_upcoming();
+            e = physical_queue_.top().second;
+            physical_queue_.pop();
         }
         if (e >= 0) queued_[e] = 0;
         return e;
-    }
-
-    // The hinges of the sorted run's next edges are far apart in memory: each is requested in
-    // steps (edge record, then its face, then the twin's face and the positions) some pops
-    // before it is tested, so that the loads overlap instead of waiting in turn.
-    void prefetch_upcoming() const {
-        constexpr size_t kEdgeAhead = 24, kFaceAhead = 16, kHingeAhead = 8;
-        if (const int e = physical_queue_.upcoming(kEdgeAhead); e >= 0) mesh_.prefetch_edge(e);
-        if (const int e = physical_queue_.upcoming(kFaceAhead); e >= 0) mesh_.prefetch(mesh_.halfedge(e));
-        if (const int e = physical_queue_.upcoming(kHingeAhead); e >= 0) {
-            const int h = mesh_.halfedge(e);
-            if (h < 0) return;
-            mesh_.prefetch(mesh_.twin(h));
-            for (const int v : {mesh_.tail(h), mesh_.head(h), mesh_.opposite_vertex(h)}) __builtin_prefetch(&P_[v]);
-        }
     }
 
     const ConvertOptions& options_;
@@ -761,7 +699,7 @@ private:
     std::vector<std::array<int, 2>> pieces_;  // by split point on an input edge: its two pieces
     std::vector<char> queued_;
     std::vector<int> flat_queue_;
-    LongestFirstQueue physical_queue_;
+    std::priority_queue<std::pair<double, int>> physical_queue_;
 };
 
 void check_options(const ConvertOptions& o) {

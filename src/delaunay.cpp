@@ -107,8 +107,12 @@ double delaunay_margin(double l, double a, double b, double c, double d) {
 }
 
 bool is_locally_delaunay(double l, double a, double b, double c, double d, double tolerance) {
+    return is_locally_delaunay_with_tangent(l, a, b, c, d, std::tan(tolerance));
+}
+
+bool is_locally_delaunay_with_tangent(double l, double a, double b, double c, double d, double tan_tolerance) {
     return is_locally_delaunay_scaled(4.0 * triangle_area(l, a, b), cosine_numerator(l, a, b),
-                                      4.0 * triangle_area(l, c, d), cosine_numerator(l, c, d), std::tan(tolerance));
+                                      4.0 * triangle_area(l, c, d), cosine_numerator(l, c, d), tan_tolerance);
 }
 
 double boundary_margin(double l, double a, double b) {

@@ -48,8 +48,6 @@ public:
     void prefetch(int h) const {
         if (h >= 0) __builtin_prefetch(&face_[h / 3]);
     }
-    /// Requests the record of edge e into the cache.
-    void prefetch_edge(int e) const { __builtin_prefetch(&edge_halfedge_[e]); }
 
     /// Replaces the diagonal of the two faces on interior edge e: with h = halfedge(e) in face
     /// (p, q, r) and its twin in (q, p, s), the faces become (r, p, s) and (s, q, r). The edge

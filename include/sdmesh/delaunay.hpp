@@ -41,6 +41,11 @@ enum class BoundaryPolicy {
 [[nodiscard]] bool is_locally_delaunay(double l, double a, double b, double c, double d,
                                        double tolerance = kDelaunayTolerance);
 
+/// The same given tan_tolerance = tan(tolerance): for loops that test many hinges under one
+/// tolerance.
+[[nodiscard]] bool is_locally_delaunay_with_tangent(double l, double a, double b, double c, double d,
+                                                    double tan_tolerance);
+
 /// The margin π - (α + β) of a hinge as the angle of the point (x, y), from its two opposite
 /// angles given as 4·area and cosine numerator of their triangles (4.0 * triangle_area(l, a, b)
 /// and cosine_numerator(l, a, b); likewise for (l, c, d)): for loops that share these between
