@@ -433,7 +433,7 @@ private:
         const bool near_input_vertex =
             (k.a < input_vertices_) != (k.b < input_vertices_) &&
             (on_input_edge < 0 || l < kShellPieceFraction * input_length_[on_input_edge]);
-        if (options_.split_rule == SplitRule::shell || near_input_vertex) return shell_distance(k.a, k.b, l);
+        if (options_.split_rule == SplitRule::shell || near_input_vertex) return shell_distance(k, l);
         // Hard constraint: I0, where both halves are locally Delaunay, kept away from the
         // endpoints so that piece lengths stay bounded below.
         // The interval is shrunk by a little, so that no half ends up exactly co-circular.
@@ -579,7 +579,8 @@ private:
     // the other end has none; -1 if there is no such end.
     int needle_end(int e) const {
         const int a = input_edges_.E(e, 0), b = input_edges_.E(e, 1);
-        const double l = input_length_[e], tangent = std::tan(kNeedleCorner);
+        const double l = input_length_[e];
+        static const double tangent = std::tan(kNeedleCorner);
         // The corner between sides b and c opposite `opposite` is below kNeedleCorner: its
         // tangent, 4·area over the cosine numerator, is (no arctangent for 2.4M edges).
         auto needle_corner = [&](double opposite, double b_side, double c_side) {
@@ -598,13 +599,12 @@ private:
         return at_a ? a : b;
     }
 
-    // Ruppert's concentric shells: from the endpoint that is an input vertex, at the power-of-two
-    // multiple of a fixed unit that lies in [l/3, 2l/3); the midpoint if none or both are.
-    double shell_distance(int a, int b, double l) const {
-        const bool a_input = a < input_vertices_, b_input = b < input_vertices_;
+    // Ruppert's concentric shells: around the endpoint that is an input vertex, at the
+    // power-of-two multiple of the shell unit in the middle third; the midpoint if none or both are.
+    double shell_distance(const Hinge& k, double l) const {
+        const bool a_input = k.a < input_vertices_, b_input = k.b < input_vertices_;
         if (a_input == b_input) return 0.5 * l;
-        const double t = shell_unit_ * std::exp2(std::ceil(std::log2(l / (3.0 * shell_unit_))));
-        return a_input ? t : l - t;
+        return shell_distance_around(a_input ? k.a : k.b, k, l);
     }
 
     void split(int e) {
