@@ -453,7 +453,7 @@ private:
             // the two sides at that end see it under about π minus the faces' corners there
             // (wide ones can bear that), the far sides much as they saw the end. It then costs no
             // vertex beyond itself: cheese 19.3 -> 14.7 vertices added per non-Delaunay edge,
-            // every corpus mesh fewer.
+            // no corpus mesh more.
             const SideChoice near_end = sides.most_weight(away_from_ends(kNearEnd));
             if (near_end.keeps_physical && near_end.weight > best.weight)
                 return 0.5 * (near_end.range.lo + near_end.range.hi);
