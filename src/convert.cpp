@@ -39,6 +39,9 @@ constexpr double kEndClearance = 0.1, kNearEnd = 0.003;
 // Split points at dyadic fractions of their input edge use at most this many bits (see
 // split_distance; 3 to 20 bits measured, 4-6 best).
 constexpr int kDyadicBits = 6;
+// Where a split must break a physical side, this many dyadic positions of each range are tried
+// besides the usual one (see least_cascading; 3, 8 and 20 measured: 8 about as good as 20).
+constexpr int kCascadeDyadics = 8;
 // An input edge with a face corner below this at one end (and none at the other) is a needle of
 // a fan: all its split points follow shells around that end (see split_distance).
 constexpr double kNeedleCorner = std::numbers::pi / 180;
@@ -420,63 +423,6 @@ private:
         }
     }
 
-    // Distance from a at which to split the edge a-b (length l) of hinge k.
-    double split_distance(const Hinge& k, double l) const {
-        const int on_input_edge = input_edge_[mesh_.edge(k.h)];
-        // The needles of a fan (a cone's, say) meet at their apex at tiny angles, and their other
-        // ends lie anywhere: split points at the same distances from the apex, ignoring I0, make
-        // rings that close. Interval points (or shells from either end) left rings out of step
-        // that marched along the needles: a 90-needle cone took 51,328 vertices, 180 needles
-        // more than the vertex budget; now 4,150 and 14,043.
-        if (const int apex = on_input_edge >= 0 ? needle_end(on_input_edge) : -1; apex >= 0)
-            return shell_distance_around(apex, k, l);
-        if (options_.split_rule == SplitRule::shell) return shell_distance(k, l);
-        // Short pieces that end at an input vertex follow the shells, unless an interval point
-        // keeps every physical outer side locally Delaunay: two input edges meeting at a small
-        // angle would otherwise split each other ever finer. Longer ones take the interval rule,
-        // which adds fewer vertices (a quarter of the input edge: measured on the corpus,
-        // shorter thresholds gain nothing more).
-        const bool near_input_vertex =
-            (k.a < input_vertices_) != (k.b < input_vertices_) &&
-            (on_input_edge < 0 || l < kShellPieceFraction * input_length_[on_input_edge]);
-        // Hard constraint: I0, where both halves are locally Delaunay, shrunk by a little so that
-        // no half ends up exactly co-circular.
-        const Interval halves = delaunay_halves_interval(k, l);
-        const double inset = 1e-3 * (halves.hi - halves.lo);
-        auto away_from_ends = [&](double clearance) {
-            return Interval{std::max(halves.lo + inset, clearance * l), std::min(halves.hi - inset, (1 - clearance) * l)};
-        };
-        const OuterSides sides = outer_sides(k, l);
-        const SideChoice best = sides.most_weight(away_from_ends(kEndClearance));
-        if (best.weight < sides.total_weight) {
-            // A point near an end can keep every physical side where the piece's middle cannot:
-            // the two sides at that end see it under about π minus the faces' corners there
-            // (wide ones can bear that), the far sides much as they saw the end. It then costs no
-            // vertex beyond itself: cheese 19.3 -> 14.7 vertices added per non-Delaunay edge,
-            // no corpus mesh more.
-            const SideChoice near_end = sides.most_weight(away_from_ends(kNearEnd));
-            if (near_end.keeps_physical && near_end.weight > best.weight)
-                return 0.5 * (near_end.range.lo + near_end.range.hi);
-        }
-        if (near_input_vertex && !best.keeps_physical) return shell_distance(k, l);
-        if (best.weight < 0) return 0.5 * l;
-        // Prefer the foot of the perpendicular from the apex with the wider angle: the spoke is
-        // then perpendicular to the edge. Else the simplest dyadic fraction of the input edge in
-        // the interval: neighbouring edges of similar length then get their points at the same
-        // fractions, and the pieces line up across the faces between them (thin strips of faces
-        // need fewer points: couplingdown 10.96 -> 8.95 vertices added per non-Delaunay edge).
-        // Else the middle of the interval.
-        const double ar = dist(k.a, k.r), br = dist(k.b, k.r);
-        const int apex = k.s >= 0 && dist(k.a, k.s) + dist(k.b, k.s) < ar + br ? k.s : k.r;
-        const double foot = (P_[apex] - P_[k.a]).dot(P_[k.b] - P_[k.a]) / l;
-        if (foot >= best.range.lo && foot <= best.range.hi) return foot;
-        if (on_input_edge >= 0) {
-            const double dyadic = simplest_dyadic(k, on_input_edge, best.range);
-            if (dyadic >= 0) return dyadic;
-        }
-        return 0.5 * (best.range.lo + best.range.hi);
-    }
-
     struct Interval {
         double lo, hi;
     };
@@ -496,38 +442,186 @@ private:
     struct OuterSides {
         Interval keeps[4];
         int weight[4];
+        int halfedge[4];
         int count = 0, total_weight = 0;
         unsigned physical = 0;  // bit i: side i is physical
 
-        // The feasible subset of most weight (the first found) inside `within`.
-        SideChoice most_weight(Interval within) const {
-            SideChoice best{within, -1, false};
-            if (within.lo > within.hi) return best;
+        void add(Interval keep, bool flat, int h) {
+            keeps[count] = keep;
+            weight[count] = flat ? 1 : 2;
+            halfedge[count] = h;
+            if (!flat) physical |= 1u << count;
+            total_weight += weight[count++];
+        }
+
+        // f(range, subset) for every subset of sides that some position inside `within` keeps.
+        template <class F>
+        void for_each_choice(Interval within, F f) const {
+            if (within.lo > within.hi) return;
             for (unsigned subset = 0; subset < (1u << count); ++subset) {
                 Interval candidate = within;
-                int total = 0;
                 for (int i = 0; i < count; ++i)
                     if (subset >> i & 1u) {
                         candidate.lo = std::max(candidate.lo, keeps[i].lo);
                         candidate.hi = std::min(candidate.hi, keeps[i].hi);
-                        total += weight[i];
                     }
-                if (candidate.lo <= candidate.hi && total > best.weight)
-                    best = {candidate, total, (subset & physical) == physical};
+                if (candidate.lo <= candidate.hi) f(candidate, subset);
             }
+        }
+
+        // The feasible subset of most weight (the first found) inside `within`.
+        SideChoice most_weight(Interval within) const {
+            SideChoice best{within, -1, false};
+            for_each_choice(within, [&](Interval range, unsigned subset) {
+                int total = 0;
+                for (int i = 0; i < count; ++i)
+                    if (subset >> i & 1u) total += weight[i];
+                if (total > best.weight) best = {range, total, (subset & physical) == physical};
+            });
             return best;
         }
     };
 
+    // Distance from a at which to split the edge a-b (length l) of hinge k.
+    double split_distance(const Hinge& k, double l) const {
+        const int on_input_edge = input_edge_[mesh_.edge(k.h)];
+        // The needles of a fan (a cone's, say) meet at their apex at tiny angles, and their other
+        // ends lie anywhere: split points at the same distances from the apex, ignoring I0, make
+        // rings that close. Interval points (or shells from either end) left rings out of step
+        // that marched along the needles: a 90-needle cone took 51,328 vertices, 180 needles
+        // more than the vertex budget; now 4,150 and 14,043.
+        if (const int apex = on_input_edge >= 0 ? needle_end(on_input_edge) : -1; apex >= 0)
+            return shell_distance_around(apex, k, l);
+        if (options_.split_rule == SplitRule::shell) return shell_distance(k, l);
+        // Short pieces that end at an input vertex follow the shells, unless an interval point
+        // keeps every physical outer side locally Delaunay: two input edges meeting at a small
+        // angle would otherwise split each other ever finer. Longer ones take the interval rule,
+        // which adds fewer vertices (a quarter of the input edge: measured on the corpus,
+        // shorter thresholds gain nothing more).
+        const bool near_input_vertex =
+            (k.a < input_vertices_) != (k.b < input_vertices_) &&
+            (on_input_edge < 0 || l < kShellPieceFraction * input_length_[on_input_edge]);
+        // Hard constraint: I0, where both halves are locally Delaunay.
+        const Interval halves = delaunay_halves_interval(k, l);
+        auto away_from_ends = [&](double clearance) { return Converter::away_from_ends(halves, l, clearance); };
+        const OuterSides sides = outer_sides(k, l);
+        const SideChoice best = sides.most_weight(away_from_ends(kEndClearance));
+        if (best.weight < sides.total_weight) {
+            // A point near an end can keep every physical side where the piece's middle cannot:
+            // the two sides at that end see it under about π minus the faces' corners there
+            // (wide ones can bear that), the far sides much as they saw the end. It then costs no
+            // vertex beyond itself: cheese 19.3 -> 14.7 vertices added per non-Delaunay edge,
+            // no corpus mesh more.
+            const SideChoice near_end = sides.most_weight(away_from_ends(kNearEnd));
+            if (near_end.keeps_physical && near_end.weight > best.weight)
+                return 0.5 * (near_end.range.lo + near_end.range.hi);
+        }
+        if (near_input_vertex && !best.keeps_physical) return shell_distance(k, l);
+        if (best.weight < 0) return 0.5 * l;
+        if (!best.keeps_physical) return least_cascading(k, l, sides, away_from_ends(kEndClearance), on_input_edge);
+        return usual_position(k, l, best.range, on_input_edge);
+    }
+
+    // Where every position of `within` breaks a physical outer side, which one breaks costs a
+    // vertex at least; it costs more if that side's own split must break a physical side again
+    // (a cascade). Among the usual position of each choice of sides and the simplest dyadic
+    // fractions of its range, the one with the most weight kept less the broken physical sides
+    // whose split would cascade; the first of equals. Measured against the usual position of the
+    // choice of most weight: nefertiti 1.88 -> 1.76 vertices added per non-Delaunay edge,
+    // boot 2.42 -> 2.22, koala 2.78 -> 2.54.
+    double least_cascading(const Hinge& k, double l, const OuterSides& sides, Interval within, int on_input_edge) const {
+        // The candidates, in order, without repeats: up to 16 choices of the 4 sides.
+        std::array<double, 16 * (1 + kCascadeDyadics)> positions;
+        int candidates = 0;
+        auto candidate = [&](double t) {
+            if (std::find(positions.begin(), positions.begin() + candidates, t) == positions.begin() + candidates)
+                positions[candidates++] = t;
+        };
+        sides.for_each_choice(within, [&](Interval range, unsigned) { candidate(usual_position(k, l, range, on_input_edge)); });
+        if (on_input_edge >= 0)
+            sides.for_each_choice(within, [&](Interval range, unsigned) {
+                for_each_dyadic(k, on_input_edge, range, kCascadeDyadics, candidate);
+            });
+        double chosen = 0.5 * l;
+        int best_score = std::numeric_limits<int>::min();
+        for (int c = 0; c < candidates; ++c) {
+            const double t = positions[c];
+            int score = 0;
+            unsigned broken = 0;  // physical sides
+            for (int i = 0; i < sides.count; ++i) {
+                if (t >= sides.keeps[i].lo && t <= sides.keeps[i].hi)
+                    score += sides.weight[i];
+                else if (sides.physical >> i & 1u)
+                    broken |= 1u << i;
+            }
+            for (int i = 0; i < sides.count && score > best_score; ++i)
+                if ((broken >> i & 1u) && !side_splits_cleanly(k, l, t, i, sides.halfedge[i])) --score;
+            if (score > best_score) best_score = score, chosen = t;
+        }
+        return chosen;
+    }
+
+    // Whether outer side i of hinge k (halfedge `side`: 0 a-r, 1 b-r, 2 a-s, 3 b-s), broken by a
+    // split point x at distance t from k.a, could itself be split keeping its physical outer
+    // sides locally Delaunay, as split_distance would judge it with x in the mesh.
+    bool side_splits_cleanly(const Hinge& k, double l, double t, int i, int side) const {
+        const Eigen::Vector3d x = P_[k.a] + (t / l) * (P_[k.b] - P_[k.a]);
+        auto to_x = [&](int u) { return distance(x, P_[u]); };
+        // The side's hinge after the split: end-apex with x on one side and w across.
+        const int end = i % 2 == 0 ? k.a : k.b, apex = i < 2 ? k.r : k.s;
+        const int far_apex = i < 2 ? k.s : k.r, far_end = end == k.a ? k.b : k.a;
+        const double length = dist(end, apex), end_x = to_x(end), apex_x = to_x(apex);
+        OuterSides sides;
+        // The half end-x of the split edge, and the spoke apex-x inside the face.
+        sides.add(far_apex < 0 ? side_interval(length, end_x, apex_x, -1, -1, false)
+                               : side_interval(length, end_x, apex_x, dist(end, far_apex), to_x(far_apex), false),
+                  is_flat(mesh_.edge(k.h), flat_angle_), -1);
+        sides.add(side_interval(length, apex_x, end_x, dist(apex, far_end), to_x(far_end), true), true, -1);
+        const int across = mesh_.twin(side);
+        Interval halves = halves_interval(length, end_x, apex_x, -1, -1);
+        if (across >= 0) {
+            const int w = mesh_.opposite_vertex(across);
+            halves = halves_interval(length, end_x, apex_x, dist(end, w), dist(apex, w));
+            for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)}) {
+                const bool at_end = mesh_.tail(g) == end || mesh_.head(g) == end;
+                const int from = at_end ? end : apex, to = at_end ? apex : end;
+                const int beyond = mesh_.twin(g) < 0 ? -1 : mesh_.opposite_vertex(mesh_.twin(g));
+                sides.add(beyond < 0 ? side_interval(length, dist(from, w), dist(to, w), -1, -1, !at_end)
+                                     : side_interval(length, dist(from, w), dist(to, w), dist(from, beyond),
+                                                     dist(w, beyond), !at_end),
+                          is_flat(mesh_.edge(g), flat_angle_), g);
+            }
+        }
+        return sides.most_weight(away_from_ends(halves, length, kEndClearance)).keeps_physical ||
+               sides.most_weight(away_from_ends(halves, length, kNearEnd)).keeps_physical;
+    }
+
+    // The positions of I0 (`halves`), shrunk by a little so that no half ends up exactly
+    // co-circular, at least `clearance` of the piece (length l) away from its ends.
+    static Interval away_from_ends(Interval halves, double l, double clearance) {
+        const double inset = 1e-3 * (halves.hi - halves.lo);
+        return {std::max(halves.lo + inset, clearance * l), std::min(halves.hi - inset, (1 - clearance) * l)};
+    }
+
+    // Inside a range of a choice of sides: the foot of the perpendicular from the apex with the
+    // wider angle (the spoke is then perpendicular to the edge). Else the simplest dyadic
+    // fraction of the input edge in the range: neighbouring edges of similar length then get
+    // their points at the same fractions, and the pieces line up across the faces between them
+    // (thin strips of faces need fewer points: couplingdown 10.96 -> 8.95 vertices added per
+    // non-Delaunay edge). Else the middle of the range.
+    double usual_position(const Hinge& k, double l, Interval range, int on_input_edge) const {
+        const double ar = dist(k.a, k.r), br = dist(k.b, k.r);
+        const int apex = k.s >= 0 && dist(k.a, k.s) + dist(k.b, k.s) < ar + br ? k.s : k.r;
+        const double foot = (P_[apex] - P_[k.a]).dot(P_[k.b] - P_[k.a]) / l;
+        if (foot >= range.lo && foot <= range.hi) return foot;
+        double dyadic = -1;
+        if (on_input_edge >= 0) for_each_dyadic(k, on_input_edge, range, 1, [&](double t) { dyadic = t; });
+        return dyadic >= 0 ? dyadic : 0.5 * (range.lo + range.hi);
+    }
+
     OuterSides outer_sides(const Hinge& k, double l) const {
         OuterSides sides;
-        auto add = [&](Interval keeps, int side) {
-            const bool flat = is_flat(mesh_.edge(side), flat_angle_);
-            sides.keeps[sides.count] = keeps;
-            sides.weight[sides.count] = flat ? 1 : 2;
-            if (!flat) sides.physical |= 1u << sides.count;
-            sides.total_weight += sides.weight[sides.count++];
-        };
+        auto add = [&](Interval keeps, int side) { sides.add(keeps, is_flat(mesh_.edge(side), flat_angle_), side); };
         for (const int h : {k.h, mesh_.twin(k.h)}) {
             if (h < 0) continue;
             const int from_a = h == k.h ? HalfedgeMesh::prev(h) : HalfedgeMesh::next(h);  // side a-apex
@@ -538,10 +632,11 @@ private:
         return sides;
     }
 
-    // The position in `range` (distance from k.a) whose parameter along input edge ie (0 at
-    // one end, 1 at the other) is the dyadic fraction with the fewest bits, up to kDyadicBits;
-    // -1 if there is none. The fractions are the same from either end.
-    double simplest_dyadic(const Hinge& k, int ie, Interval range) const {
+    // f(position) for the first `count` positions in `range` (distances from k.a) whose parameter
+    // along input edge ie (0 at one end, 1 at the other) is a dyadic fraction of at most
+    // kDyadicBits bits, those with fewer bits first. The fractions are the same from either end.
+    template <class F>
+    void for_each_dyadic(const Hinge& k, int ie, Interval range, int count, F f) const {
         const int u = input_edges_.E(ie, 0), w = input_edges_.E(ie, 1);
         const double length = input_length_[ie];
         const Eigen::Vector3d along = (P_[w] - P_[u]) / (length * length);
@@ -551,24 +646,29 @@ private:
         const double lo = std::min(from_lo, from_hi), hi = std::max(from_lo, from_hi);
         for (int bits = 1; bits <= kDyadicBits; ++bits) {
             const double step = std::ldexp(1.0, -bits);
-            const double t = std::ceil(lo / step) * step;
-            if (t <= hi) return std::clamp(sign * (t - ta) * length, range.lo, range.hi);
+            for (double t = std::ceil(lo / step) * step; t <= hi; t += step) {
+                if (std::fmod(t / step, 2.0) == 0) continue;  // fewer bits: done already
+                f(std::clamp(sign * (t - ta) * length, range.lo, range.hi));
+                if (--count == 0) return;
+            }
         }
-        return -1;
     }
 
     // I0 of ALGORITHMS.md §3: positions x on a-b (distance from a) for which both halves are
     // locally Delaunay; on a boundary edge (strict policy) the opposite angle must stay <= π/2.
     Interval delaunay_halves_interval(const Hinge& k, double l) const {
-        const double ar = dist(k.a, k.r), br = dist(k.b, k.r);
+        return k.s < 0 ? halves_interval(l, dist(k.a, k.r), dist(k.b, k.r), -1, -1)
+                       : halves_interval(l, dist(k.a, k.r), dist(k.b, k.r), dist(k.a, k.s), dist(k.b, k.s));
+    }
+    // The same from the lengths a-r, b-r, a-s, b-s (as < 0: no s, a boundary edge).
+    static Interval halves_interval(double l, double ar, double br, double as, double bs) {
         const double theta_a = corner_angle(br, l, ar), theta_b = corner_angle(ar, l, br);
         Interval range{0, l};
-        if (k.s < 0) {
+        if (as < 0) {
             if (std::cos(theta_a) > 0) range.hi = std::min(range.hi, ar / std::cos(theta_a));
             if (std::cos(theta_b) > 0) range.lo = std::max(range.lo, l - br / std::cos(theta_b));
             return range;
         }
-        const double as = dist(k.a, k.s), bs = dist(k.b, k.s);
         const double phi_a = corner_angle(bs, l, as), phi_b = corner_angle(as, l, bs);
         // Second intersection of the circle through a (b), r, s with the edge line.
         if (theta_a + phi_a < kPi)
@@ -586,17 +686,20 @@ private:
     // diameter. `from_b` mirrors the result for measuring from b.
     Interval outer_side_interval(int side, int from, int to, double l, bool from_b) const {
         const int apex = mesh_.tail(side) == from ? mesh_.head(side) : mesh_.tail(side);
-        const double d_apex = dist(from, apex), d_to_apex = dist(to, apex);
+        const int across = mesh_.twin(side);
+        if (across < 0) return side_interval(l, dist(from, apex), dist(to, apex), -1, -1, from_b);
+        const int w = mesh_.opposite_vertex(across);
+        return side_interval(l, dist(from, apex), dist(to, apex), dist(from, w), dist(apex, w), from_b);
+    }
+    // The same from the lengths from-apex, to-apex, from-w, apex-w (d_w < 0: a boundary side).
+    Interval side_interval(double l, double d_apex, double d_to_apex, double d_w, double d_apex_w, bool from_b) const {
         const double angle = corner_angle(d_to_apex, l, d_apex);  // at `from`, between to and apex
         double reach = 0;  // D
-        const int across = mesh_.twin(side);
-        if (across < 0) {
+        if (d_w < 0) {
             if (options_.boundary == BoundaryPolicy::free) return {0, l};
             reach = d_apex * std::cos(angle);
         } else {
-            const int w = mesh_.opposite_vertex(across);
-            const double d_w = dist(from, w);
-            const double beyond = corner_angle(dist(apex, w), d_apex, d_w);  // at `from`, apex to w
+            const double beyond = corner_angle(d_apex_w, d_apex, d_w);  // at `from`, apex to w
             const Eigen::Vector2d r = d_apex * Eigen::Vector2d(std::cos(angle), std::sin(angle));
             const Eigen::Vector2d q = d_w * Eigen::Vector2d(std::cos(angle + beyond), std::sin(angle + beyond));
             const double det = 2 * (r.x() * q.y() - r.y() * q.x());

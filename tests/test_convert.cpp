@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <string_view>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -269,12 +270,16 @@ TEST(ConvertMethods, TheScaleOfTheCoordinatesChangesNothing) {
 // than π (a strict boundary piece: more than π/2). On these meshes no two faces are coplanar, so
 // a piece's apex in its face's Delaunay triangulation is the point that sees it widest.
 TEST(ConvertMethods, NoSplitPointCanGoAlone) {
+    // Points are removed on the first two (407 and 594 of 3,330 and 4,552 splits); on the bunny
+    // none has been since the split points avoid cascades, and the check still holds there.
     for (const char* name : {"skewed_grid", "small_angles", "bunny"}) {
         const TriangleMesh input = adversarial(name);
         const ConversionResult result = convert(input);
         const ConversionReport& r = result.report;
         ASSERT_EQ(r.status, ConvertStatus::certified) << name;
-        EXPECT_GT(r.removed_points, 0) << name;
+        if (std::string_view(name) != "bunny") {
+            EXPECT_GT(r.removed_points, 0) << name;
+        }
         const EdgeTable edges = build_edge_table(input.F, input.num_vertices());
         auto point = [&](int v) -> Eigen::Vector3d { return result.mesh.V.row(v); };
         // The points on each input edge, ordered along it, ends included.

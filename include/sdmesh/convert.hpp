@@ -32,7 +32,8 @@ enum class ConvertMethod { flip, split, hybrid };
 enum class SplitRule {
     /// Inside the interval that keeps both halves locally Delaunay (Liu et al. 2015), keeping as
     /// many of the four outer edges locally Delaunay as possible (non-flat ones first: they would
-    /// need a vertex, flat ones only a flip); pieces shorter than a quarter of their input edge
+    /// need a vertex, flat ones only a flip; where a non-flat one must break, preferably one whose
+    /// own split will not break another); pieces shorter than a quarter of their input edge
     /// that end at an input vertex follow the shells below, which stops small input angles from
     /// cascading.
     interval,
