@@ -8,6 +8,7 @@
 #include <deque>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <queue>
 #include <span>
 #include <string>
@@ -42,6 +43,9 @@ constexpr int kDyadicBits = 6;
 // Where a split must break a physical side, this many dyadic positions of each range are tried
 // besides the usual one (see least_cascading; 3, 8 and 20 measured: 8 about as good as 20).
 constexpr int kCascadeDyadics = 8;
+// Local search places again at most this many split points at once: more (dense fans of
+// needles) cost time that grows with them and rarely pay (16, 32 and unlimited measured alike).
+constexpr size_t kLocalSearchPoints = 16;
 // An input edge with a face corner below this at one end (and none at the other) is a needle of
 // a fan: all its split points follow shells around that end (see split_distance).
 constexpr double kNeedleCorner = std::numbers::pi / 180;
@@ -130,8 +134,13 @@ public:
         flip_budget_ = options_.max_flips > 0 ? options_.max_flips : 100LL * mesh_.num_edges() + 1'000'000;
         drain(report);
         if (options_.method == ConvertMethod::split && report.status == ConvertStatus::certified &&
-            report.vertices_inside_faces == 0)
+            report.vertices_inside_faces == 0) {
             remove_unneeded_points(report);
+            if (options_.local_search > 0) {
+                local_search(report);
+                remove_unneeded_points(report);  // what the search placed may let others go
+            }
+        }
     }
 
     TriangleMesh result() const {
@@ -295,6 +304,103 @@ private:
         }
     }
 
+    // Inside a trial, writes to entries that existed before it are recorded first.
+    template <class T>
+    static void write(std::vector<T>& array, int i, T value, size_t existing, std::vector<std::pair<int, T>>* log) {
+        if (log && static_cast<size_t>(i) < existing) log->emplace_back(i, array[i]);
+        array[i] = value;
+    }
+    void set_input_edge(int e, int value) {
+        write(input_edge_, e, value, trial_ ? trial_->edges : 0, trial_ ? &trial_->input_edge : nullptr);
+    }
+    void set_in_plane(int e, char value) {
+        write(in_plane_, e, value, trial_ ? trial_->edges : 0, trial_ ? &trial_->in_plane : nullptr);
+    }
+    void set_removed(int point, char value) {
+        write(removed_, point, value, trial_ ? trial_->points - input_vertices_ : 0, trial_ ? &trial_->removed : nullptr);
+    }
+    void set_pieces(int point, std::array<int, 2> value) {
+        write(pieces_, point, value, trial_ ? trial_->points - input_vertices_ : 0, trial_ ? &trial_->pieces : nullptr);
+    }
+
+    void begin_trial() {
+        trial_.emplace();
+        trial_->points = P_.size();
+        trial_->edges = static_cast<size_t>(mesh_.num_edges());
+        mesh_.begin_trial();
+    }
+    void rollback() {
+        auto undo = [](auto& array, auto& log) {
+            for (auto it = log.rbegin(); it != log.rend(); ++it) array[it->first] = it->second;
+        };
+        undo(input_edge_, trial_->input_edge), undo(in_plane_, trial_->in_plane);
+        undo(removed_, trial_->removed), undo(pieces_, trial_->pieces);
+        const size_t points = trial_->points - input_vertices_, edges = trial_->edges;
+        P_.resize(trial_->points);
+        vertex_input_edge_.resize(points), removed_.resize(points), pieces_.resize(points);
+        input_edge_.resize(edges), in_plane_.resize(edges), queued_.resize(edges);
+        mesh_.rollback();
+        trial_.reset();
+    }
+    void commit() {
+        mesh_.commit();
+        trial_.reset();
+    }
+
+    // Around each split point in turn, the split points on the (up to five) input edges of its
+    // two input faces are removed and the loop places them again, with everything else in
+    // place; the result is kept if it has fewer vertices, else taken back. Greedy placement
+    // decides each point before its neighbours exist; here each is decided again after.
+    void local_search(ConversionReport& report) {
+        // The split points on each input edge; ids taken back by a rollback may linger.
+        std::vector<std::vector<int>> on_edge(static_cast<size_t>(input_edges_.num_edges()));
+        size_t indexed = static_cast<size_t>(input_vertices_);
+        std::vector<int> edges, victims;
+        for (int pass = 0; pass < options_.local_search; ++pass) {
+            const int points = static_cast<int>(P_.size());
+            for (int x = input_vertices_; x < points && report.status == ConvertStatus::certified; ++x) {
+                if (x >= static_cast<int>(P_.size()) || removed_[x - input_vertices_]) continue;
+                const int e = vertex_input_edge_[x - input_vertices_];
+                if (e < 0 || input_flat_[e]) continue;
+                for (; indexed < P_.size(); ++indexed)
+                    if (const int ie = vertex_input_edge_[indexed - input_vertices_]; ie >= 0)
+                        on_edge[ie].push_back(static_cast<int>(indexed));
+                edges.assign(1, e);
+                for (int side = 0; side < 2; ++side)
+                    if (const int h = input_edges_.edge_halfedges(e, side); h >= 0)
+                        for (int k = 0; k < 3; ++k) edges.push_back(input_edges_.face_edge(h / 3, k));
+                std::sort(edges.begin(), edges.end());
+                edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+                victims.clear();
+                for (const int ie : edges)
+                    for (const int y : on_edge[ie])
+                        if (y < static_cast<int>(P_.size()) && vertex_input_edge_[y - input_vertices_] == ie &&
+                            !removed_[y - input_vertices_])
+                            victims.push_back(y);
+                std::sort(victims.begin(), victims.end());
+                victims.erase(std::unique(victims.begin(), victims.end()), victims.end());
+                if (victims.size() > kLocalSearchPoints) continue;
+                const ConversionReport before = report;
+                begin_trial();
+                for (const int y : victims) {
+                    if (!undo_split(y, report)) break;
+                    ++report.removed_points;
+                }
+                drain(report);
+                const long long added = report.splits - report.removed_points;
+                if (report.status == ConvertStatus::certified && report.vertices_inside_faces == 0 &&
+                    added < before.splits - before.removed_points) {
+                    commit();
+                    report.local_search_saved += before.splits - before.removed_points - added;
+                } else {
+                    rollback();
+                    report = before;
+                    indexed = std::min(indexed, P_.size());
+                }
+            }
+        }
+    }
+
     int other_end(int e, int v) const {
         const int h = mesh_.halfedge(e);
         return mesh_.tail(h) == v ? mesh_.head(h) : mesh_.tail(h);
@@ -302,8 +408,10 @@ private:
     // Split point v's piece `from` became `to`.
     void repoint_piece(int v, int from, int to) {
         if (v < input_vertices_) return;
-        for (int& piece : pieces_[v - input_vertices_])
+        std::array<int, 2> pieces = pieces_[v - input_vertices_];
+        for (int& piece : pieces)
             if (piece == from) piece = to;
+        set_pieces(v - input_vertices_, pieces);
     }
 
     // The side of edge e that runs into vertex x, -1 if it has none (a boundary edge).
@@ -338,7 +446,7 @@ private:
         if (side_into(other, x) >= 0 && !keep_one_spoke(other, x, p, report)) return false;
         const int h = side_into(piece, x), t = mesh_.twin(h);
         mesh_.merge(h);
-        removed_[x - input_vertices_] = 1;
+        set_removed(x - input_vertices_, 1);
         repoint_piece(q, other, piece);
         for (const int side : {h, t}) {
             if (side < 0) continue;
@@ -414,11 +522,11 @@ private:
                               mesh_.edge(HalfedgeMesh::prev(mesh_.twin(k.h)))};
         const bool planar_quad = is_flat(e, coplanar_angle_);
         mesh_.flip(e);
-        input_edge_[e] = -1;  // the new diagonal crosses the input faces
-        in_plane_[e] = planar_quad;
+        set_input_edge(e, -1);  // the new diagonal crosses the input faces
+        set_in_plane(e, static_cast<char>(planar_quad));
         for (int o : outer) {
             // A hybrid flip across a fold puts the outer sides next to faces of another plane.
-            if (!planar_quad) in_plane_[o] = 0;
+            if (!planar_quad) set_in_plane(o, 0);
             push(o);
         }
     }
@@ -848,6 +956,14 @@ private:
     long long vertex_budget_ = 0, flip_budget_ = 0;
     std::vector<std::array<int, 2>> pieces_;  // by split point on an input edge: its two pieces
     std::vector<char> queued_;
+    // The open trial of local_search(): what to take back if it does not pay.
+    struct Trial {
+        size_t points = 0, edges = 0;  // P_.size(), mesh_.num_edges() at its start
+        std::vector<std::pair<int, int>> input_edge;
+        std::vector<std::pair<int, char>> in_plane, removed;
+        std::vector<std::pair<int, std::array<int, 2>>> pieces;
+    };
+    std::optional<Trial> trial_;
     std::vector<int> flat_queue_;
     std::priority_queue<std::pair<double, int>> physical_queue_;
 };
@@ -860,6 +976,7 @@ void check_options(const ConvertOptions& o) {
     if (!(o.coplanar_tolerance >= 0)) throw InvalidArgumentError("convert: coplanar_tolerance must be >= 0");
     if (o.max_vertices < 0) throw InvalidArgumentError("convert: max_vertices must be >= 0");
     if (o.max_flips < 0) throw InvalidArgumentError("convert: max_flips must be >= 0");
+    if (o.local_search < 0) throw InvalidArgumentError("convert: local_search must be >= 0");
 }
 
 }  // namespace

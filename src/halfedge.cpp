@@ -37,7 +37,7 @@ HalfedgeMesh::HalfedgeMesh(const Eigen::MatrixX3i& F, const Eigen::MatrixX3i& fa
 void HalfedgeMesh::glue(int a, int b, int e) {
     if (a >= 0) twin_of(a) = b, edge_of(a) = e;
     if (b >= 0) twin_of(b) = a, edge_of(b) = e;
-    edge_halfedge_[e] = a >= 0 ? a : b;
+    halfedge_of(e) = a >= 0 ? a : b;
 }
 
 void HalfedgeMesh::move_side(int from, int to) {
@@ -73,6 +73,7 @@ void HalfedgeMesh::flip(int e) {
         const auto inside = std::find(from.begin(), from.end(), outer_twin[i]);
         if (inside != from.end()) outer_twin[i] = to[inside - from.begin()];
     }
+    touch_face(f), touch_face(g);
     Face& face_f = face_[f];
     Face& face_g = face_[g];
     face_f.corner[0] = r, face_f.corner[1] = p, face_f.corner[2] = s;
@@ -119,16 +120,17 @@ void HalfedgeMesh::merge(int h) {
     const int q = head(next(r_side));
     corner_of(prev(h)) = q;
     move_side(prev(r_side), next(h));
-    face_[removed_face_r].corner[0] = -1;
-    edge_halfedge_[removed_spoke_r] = edge_halfedge_[removed_half] = -1;
+    corner_of(3 * removed_face_r) = -1;
+    halfedge_of(removed_spoke_r) = -1;
+    halfedge_of(removed_half) = -1;
     if (t >= 0) {
         // Face (s, x, p) of the twin takes the side s -> q of (s, q, x) and becomes (s, q, p).
         const int s_side = twin(prev(t));  // x -> s
         const int removed_face_s = face(s_side), removed_spoke_s = edge(s_side);
         corner_of(next(t)) = q;
         move_side(next(s_side), prev(t));
-        face_[removed_face_s].corner[0] = -1;
-        edge_halfedge_[removed_spoke_s] = -1;
+        corner_of(3 * removed_face_s) = -1;
+        halfedge_of(removed_spoke_s) = -1;
     }
     glue(h, t, e);
 }
@@ -197,6 +199,26 @@ Eigen::MatrixX3i HalfedgeMesh::faces() const {
             ++row;
         }
     return F;
+}
+
+void HalfedgeMesh::begin_trial() {
+    in_trial_ = true;
+    trial_faces_ = num_faces(), trial_edges_ = num_edges(), trial_vertices_ = num_vertices_;
+    face_log_.clear(), edge_log_.clear();
+}
+
+void HalfedgeMesh::rollback() {
+    for (auto it = face_log_.rbegin(); it != face_log_.rend(); ++it) face_[it->first] = it->second;
+    for (auto it = edge_log_.rbegin(); it != edge_log_.rend(); ++it) edge_halfedge_[it->first] = it->second;
+    face_.resize(static_cast<size_t>(trial_faces_));
+    edge_halfedge_.resize(static_cast<size_t>(trial_edges_));
+    num_vertices_ = trial_vertices_;
+    commit();
+}
+
+void HalfedgeMesh::commit() {
+    in_trial_ = false;
+    face_log_.clear(), edge_log_.clear();
 }
 
 }  // namespace sdmesh

@@ -43,7 +43,10 @@ public:
     /// The length stored on side h: 0 until set; flip() moves it with its side, split() leaves
     /// it on the side it was on.
     [[nodiscard]] double side_length(int h) const { return face_[h / 3].length[h % 3]; }
-    void set_side_length(int h, double length) { face_[h / 3].length[h % 3] = length; }
+    void set_side_length(int h, double length) {
+        touch_face(h / 3);
+        face_[h / 3].length[h % 3] = length;
+    }
     /// Requests the record of h's face into the cache (no effect on the mesh; h may be -1).
     void prefetch(int h) const {
         if (h >= 0) __builtin_prefetch(&face_[h / 3]);
@@ -89,6 +92,13 @@ public:
     /// The faces as an array with one row per face, in order, without those merge() removed.
     [[nodiscard]] Eigen::MatrixX3i faces() const;
 
+    /// Trials, for searches that try a change and take it back when it does not pay: after
+    /// begin_trial(), every change is recorded, rollback() restores the mesh exactly as it was
+    /// (ids included) and commit() keeps it. Their cost is that of the changes, not of the mesh.
+    void begin_trial();
+    void rollback();
+    void commit();
+
 private:
     // One cache line per face: a flip test reads and a flip writes two records.
     struct alignas(64) Face {
@@ -99,9 +109,28 @@ private:
     };
 
     [[nodiscard]] int corner_of(int h) const { return face_[h / 3].corner[h % 3]; }
-    int& corner_of(int h) { return face_[h / 3].corner[h % 3]; }
-    int& twin_of(int h) { return face_[h / 3].twin[h % 3]; }
-    int& edge_of(int h) { return face_[h / 3].edge[h % 3]; }
+    int& corner_of(int h) {
+        touch_face(h / 3);
+        return face_[h / 3].corner[h % 3];
+    }
+    int& twin_of(int h) {
+        touch_face(h / 3);
+        return face_[h / 3].twin[h % 3];
+    }
+    int& edge_of(int h) {
+        touch_face(h / 3);
+        return face_[h / 3].edge[h % 3];
+    }
+    int& halfedge_of(int e) {
+        if (in_trial_ && e < trial_edges_) [[unlikely]]
+            edge_log_.emplace_back(e, edge_halfedge_[e]);
+        return edge_halfedge_[e];
+    }
+    // Records face f before a change, inside a trial (faces added by the trial need no record).
+    void touch_face(int f) {
+        if (in_trial_ && f < trial_faces_) [[unlikely]]
+            face_log_.emplace_back(f, face_[f]);
+    }
     // Makes a and b twins (either may be -1 for a boundary side) with edge id e.
     void glue(int a, int b, int e);
     // Gives slot `to` the twin, edge and side length of slot `from`.
@@ -112,6 +141,11 @@ private:
     int num_vertices_ = 0;
     std::vector<Face> face_;
     std::vector<int> edge_halfedge_;  // per edge
+    // The open trial: the sizes it started from and the records changed since, oldest first.
+    bool in_trial_ = false;
+    int trial_faces_ = 0, trial_edges_ = 0, trial_vertices_ = 0;
+    std::vector<std::pair<int, Face>> face_log_;
+    std::vector<std::pair<int, int>> edge_log_;
 };
 
 }  // namespace sdmesh

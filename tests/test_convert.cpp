@@ -180,6 +180,7 @@ std::vector<Case> cases() {
             all.push_back({mesh, {.method = ConvertMethod::hybrid, .max_dihedral_deg = double(degrees)},
                            "hybrid" + std::to_string(degrees)});
         all.push_back({mesh, {.boundary = BoundaryPolicy::free}, "split_free_boundary"});
+        all.push_back({mesh, {.local_search = 1}, "split_local_search"});
     }
     return all;
 }
@@ -272,12 +273,13 @@ TEST(ConvertMethods, TheScaleOfTheCoordinatesChangesNothing) {
 TEST(ConvertMethods, NoSplitPointCanGoAlone) {
     // Points are removed on the first two (407 and 594 of 3,330 and 4,552 splits); on the bunny
     // none has been since the split points avoid cascades, and the check still holds there.
-    for (const char* name : {"skewed_grid", "small_angles", "bunny"}) {
-        const TriangleMesh input = adversarial(name);
-        const ConversionResult result = convert(input);
+    for (const char* name : {"skewed_grid", "small_angles", "bunny", "skewed_grid/local_search"}) {
+        const std::string_view case_name(name);
+        const TriangleMesh input = adversarial(std::string(case_name.substr(0, case_name.find('/'))));
+        const ConversionResult result = convert(input, {.local_search = case_name.ends_with("local_search")});
         const ConversionReport& r = result.report;
         ASSERT_EQ(r.status, ConvertStatus::certified) << name;
-        if (std::string_view(name) != "bunny") {
+        if (case_name != "bunny") {
             EXPECT_GT(r.removed_points, 0) << name;
         }
         const EdgeTable edges = build_edge_table(input.F, input.num_vertices());
@@ -330,6 +332,26 @@ TEST(ConvertMethods, ANeedleFanConvertsWithinItsBudget) {
         EXPECT_LT(result.mesh.num_vertices() - cone.num_vertices(), 200 * result.report.input_nonflat_non_delaunay_edges)
             << to_string(rule);
     }
+}
+
+// Local search only takes what pays: fewer vertices or none saved, never more, and the same
+// output on every run.
+TEST(ConvertMethods, LocalSearchKeepsOnlyWhatSavesVertices) {
+    long long saved = 0;
+    for (const char* name : {"skewed_grid", "small_angles", "bunny", "cap_band"}) {
+        const TriangleMesh input = adversarial(name);
+        const ConversionResult plain = convert(input);
+        const ConversionResult searched = convert(input, {.local_search = 2});
+        const ConversionReport& r = searched.report;
+        ASSERT_EQ(r.status, ConvertStatus::certified) << name;
+        EXPECT_LE(r.output_vertices, plain.report.output_vertices) << name;
+        EXPECT_GE(r.local_search_saved, 0) << name;
+        EXPECT_EQ(r.output_vertices, input.num_vertices() + r.splits - r.removed_points) << name;
+        saved += plain.report.output_vertices - r.output_vertices;
+        const ConversionResult again = convert(input, {.local_search = 2});
+        EXPECT_TRUE(again.mesh.V == searched.mesh.V && again.mesh.F == searched.mesh.F) << name;
+    }
+    EXPECT_GT(saved, 0);
 }
 
 TEST(ConvertMethods, BudgetTurnsIntoAStatus) {

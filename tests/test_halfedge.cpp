@@ -170,6 +170,73 @@ TEST(HalfedgeMesh, MergesUndoSplits) {
     }
 }
 
+// Every record of the mesh, for exact comparisons.
+struct Records {
+    int vertices;
+    std::vector<int> corners, twins, edges, halfedges;
+    std::vector<double> lengths;
+    bool operator==(const Records&) const = default;
+};
+
+Records records(const HalfedgeMesh& mesh) {
+    Records r{mesh.num_vertices(), {}, {}, {}, {}, {}};
+    for (int h = 0; h < 3 * mesh.num_faces(); ++h) {
+        r.corners.push_back(mesh.corner(h / 3, h % 3));
+        r.twins.push_back(mesh.twin(h));
+        r.edges.push_back(mesh.edge(h));
+        r.lengths.push_back(mesh.side_length(h));
+    }
+    for (int e = 0; e < mesh.num_edges(); ++e) r.halfedges.push_back(mesh.halfedge(e));
+    return r;
+}
+
+// A rolled-back trial of flips, splits, merges and side lengths leaves every record as it was;
+// a committed one keeps its changes.
+TEST(HalfedgeMesh, RollbackRestoresEveryRecord) {
+    const TriangleMesh grid = make_grid(5, 4);
+    HalfedgeMesh mesh(Triangulation::from_mesh(grid));
+    std::mt19937 rng(11);
+    for (int i = 0; i < 10; ++i) mesh.split(static_cast<int>(rng() % mesh.num_edges()));
+    for (int trial = 0; trial < 20; ++trial) {
+        const Records before = records(mesh);
+        mesh.begin_trial();
+        std::vector<std::pair<int, int>> splits;  // (edge, new vertex)
+        for (int i = 0; i < 8; ++i) {
+            const int e = static_cast<int>(rng() % mesh.num_edges());
+            if (mesh.is_removed_edge(e)) continue;
+            const int h = mesh.halfedge(e);
+            switch (rng() % 3) {
+                case 0:
+                    if (!mesh.is_boundary_edge(e) && !mesh.has_edge_between(h, mesh.opposite_vertex(mesh.twin(h))))
+                        mesh.flip(e);
+                    break;
+                case 1: splits.emplace_back(e, mesh.split(e)); break;
+                default: mesh.set_side_length(h, 0.25 * i); break;
+            }
+        }
+        // The last split, if nothing came after it, can be merged back within the trial.
+        if (!splits.empty()) {
+            const auto [e, x] = splits.back();
+            int h = mesh.halfedge(e);
+            if (mesh.head(h) != x) h = mesh.twin(h);
+            if (h >= 0 && mesh.head(h) == x && mesh.num_vertices() == x + 1) mesh.merge(h);
+        }
+        ASSERT_NE(records(mesh), before) << trial;
+        if (trial % 4 == 3) {
+            mesh.commit();
+            continue;
+        }
+        mesh.rollback();
+        ASSERT_EQ(records(mesh), before) << trial;
+    }
+    Eigen::MatrixX3d V = Eigen::MatrixX3d::Zero(mesh.num_vertices(), 3);
+    V.topRows(grid.V.rows()) = grid.V;
+    const MeshInfo info = info_of(mesh, V);  // the committed trials left a valid surface
+    EXPECT_TRUE(info.manifold());
+    EXPECT_EQ(info.orientation_conflicts, 0);
+    EXPECT_EQ(info.euler_characteristic, 1);
+}
+
 TEST(HalfedgeMesh, EdgeQueriesWalkTheWholeFan) {
     for (const TriangleMesh& m : {make_icosphere(1), make_grid(4, 4)}) {
         const Triangulation t = Triangulation::from_mesh(m);

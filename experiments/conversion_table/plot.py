@@ -3,8 +3,8 @@
 
     plot.py DIR
 
-Writes DIR/conversion_efficiency.png (vertex efficiency of the two split rules per mesh, against
-the lower bound 1) and DIR/conversion_hybrid.png (what hybrid conversion trades: vertices added
+Writes DIR/conversion_efficiency.png (vertex efficiency of the two split rules, and of the interval
+rule with a pass of local search, per mesh, against the lower bound 1) and DIR/conversion_hybrid.png (what hybrid conversion trades: vertices added
 against the Hausdorff distance it allows, per dihedral bound).
 """
 
@@ -16,7 +16,12 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "study_support"))
 import plotting  # noqa: E402
 
-SPLIT_RULES = {"interval": "tab:blue", "shell": "tab:orange"}
+# (split rule, local search passes): label and colour.
+SPLIT_SERIES = {
+    ("interval", "0"): ("interval rule", "tab:blue"),
+    ("interval", "1"): ("interval rule, local search", "tab:green"),
+    ("shell", "0"): ("shell rule", "tab:orange"),
+}
 HYBRID_BOUNDS = {"5": "tab:green", "10": "tab:cyan", "20": "tab:purple"}
 
 
@@ -29,11 +34,13 @@ def efficiency_figure(rows, path):
     split = [r for r in rows if r["method"] == "split" and r["vertex_efficiency"]]
     meshes = sorted({r["mesh"] for r in split}, key=lambda m: m.split(".")[0])
     figure, axes = plotting.plt.subplots(figsize=(8, 4.2))
-    for offset, (rule, colour) in zip((-0.15, 0.15), SPLIT_RULES.items()):
-        by_mesh = {r["mesh"]: float(r["vertex_efficiency"]) for r in split if r["split_rule"] == rule}
+    for offset, ((rule, passes), (label, colour)) in zip((-0.2, 0.0, 0.2), SPLIT_SERIES.items()):
+        by_mesh = {r["mesh"]: float(r["vertex_efficiency"]) for r in split
+                   if r["split_rule"] == rule and r.get("local_search", "0") == passes}
         x = [i + offset for i, m in enumerate(meshes) if m in by_mesh]
         y = [by_mesh[m] for m in meshes if m in by_mesh]
-        axes.scatter(x, y, color=colour, label=f"split, {rule} rule (median {np.median(y):.2f})", zorder=3)
+        if y:
+            axes.scatter(x, y, color=colour, label=f"split, {label} (median {np.median(y):.2f})", zorder=3)
     axes.axhline(1.0, color="black", linestyle="--", linewidth=1, label="lower bound (one vertex per edge)")
     axes.set_yscale("log")
     axes.set_xticks(range(len(meshes)))
@@ -47,7 +54,8 @@ def efficiency_figure(rows, path):
 
 def hybrid_figure(rows, path):
     hybrid = [r for r in rows if r["method"] == "hybrid"]
-    split = {r["mesh"]: int(r["added_vertices"]) for r in rows if r["method"] == "split" and r["split_rule"] == "interval"}
+    split = {r["mesh"]: int(r["added_vertices"]) for r in rows
+             if r["method"] == "split" and r["split_rule"] == "interval" and r.get("local_search", "0") == "0"}
     figure, axes = plotting.plt.subplots(figsize=(6.5, 4.5))
     for bound, colour in HYBRID_BOUNDS.items():
         chosen = [r for r in hybrid if r["max_dihedral_deg"] == bound and split.get(r["mesh"])]

@@ -66,6 +66,11 @@ struct ConvertOptions {
     /// flips terminate in exact arithmetic, but on nearly degenerate input (coordinates spanning
     /// many orders of magnitude) rounding can make the LD verdicts cycle.
     long long max_flips = 0;
+    /// split: passes of local search after the conversion. Around each split point, the split
+    /// points of its two input faces are placed again with their neighbours known, and the
+    /// result is kept where it has fewer vertices (see experiments/README.md for what it saves
+    /// and costs). 0 = none.
+    int local_search = 0;
     /// Print a progress line to stderr about every second.
     bool progress = false;
     /// Compute the two-sided sampled Hausdorff distance output <-> input (0 for split).
@@ -86,6 +91,8 @@ struct ConversionReport {
     /// split: points removed again at the end, once later points had made them unnecessary
     /// (output vertices = input vertices + splits - removed_points)
     long long removed_points = 0;
+    /// split: vertices fewer thanks to local search (options.local_search); included above
+    long long local_search_saved = 0;
     ConvertStatus status = ConvertStatus::certified;
     double seconds = 0;
     double hausdorff_rel = 0;  ///< two-sided, relative to the input's bounding-box diagonal

@@ -91,6 +91,18 @@ def test_convert_equals_the_cli(cli, tmp_path, bunny_path, bunny, converted_bunn
     assert sdmesh.check(V, F)["self_delaunay"]
 
 
+def test_local_search_equals_the_cli(cli, tmp_path, bunny_path, bunny):
+    done = cli("convert", bunny_path, tmp_path / "out.obj", "--local-search", "1")
+    expected = cli_json(done)
+    del expected["input"], expected["output"]
+    V, F, report = sdmesh.convert(*bunny, local_search=1)
+    assert without_timings(report) == without_timings(expected)
+    assert report["local_search"] == 1
+    V_cli, F_cli = sdmesh.read_mesh(tmp_path / "out.obj")
+    np.testing.assert_array_equal(V, V_cli)
+    np.testing.assert_array_equal(F, F_cli)
+
+
 def test_decimate_equals_the_cli(cli, tmp_path, converted_bunny):
     V, F = sdmesh.read_mesh(converted_bunny)
     level = len(V) * 3 // 4

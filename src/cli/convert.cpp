@@ -1,5 +1,6 @@
 // `sdmesh convert IN OUT`: any manifold mesh to a certified self-Delaunay mesh.
 
+#include <cmath>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -16,7 +17,8 @@ namespace {
 
 constexpr const char* kConvertUsage =
     "sdmesh convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell] [--max-dihedral DEG] "
-    "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--repair] [--report FILE.json] [--progress]";
+    "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--local-search PASSES] [--repair] "
+    "[--report FILE.json] [--progress]";
 
 }  // namespace
 
@@ -35,6 +37,10 @@ int run_convert(Args& args) {
     options.max_dihedral_deg = args.number("--max-dihedral").value_or(options.max_dihedral_deg);
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);
     options.max_vertices = static_cast<long long>(args.number("--max-vertices").value_or(0));
+    const double passes = args.number("--local-search").value_or(0);
+    if (!(passes >= 0 && passes <= 100 && passes == std::floor(passes)))
+        throw UsageError("convert: --local-search expects a whole number of passes from 0 to 100");
+    options.local_search = static_cast<int>(passes);
     options.progress = args.flag("--progress");
     const bool repair_first = args.flag("--repair");
     const std::optional<std::string> report_path = args.option("--report");
