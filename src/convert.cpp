@@ -392,10 +392,17 @@ private:
                     added < before.splits - before.removed_points) {
                     commit();
                     report.local_search_saved += before.splits - before.removed_points - added;
-                } else {
-                    rollback();
-                    report = before;
-                    indexed = std::min(indexed, P_.size());
+                    continue;
+                }
+                const bool out_of_budget = report.status == ConvertStatus::budget_exhausted;
+                rollback();
+                report = before;
+                indexed = std::min(indexed, P_.size());
+                if (out_of_budget) {  // the next moves would run out too; the mesh is as before
+                    flat_queue_.clear();
+                    physical_queue_ = {};
+                    std::fill(queued_.begin(), queued_.end(), 0);
+                    return;
                 }
             }
         }

@@ -1,7 +1,7 @@
 // libFuzzer target: what `sdmesh check`, `convert`, `operators`, `decimate`, `eigs` and
 // `poisson` do, on small decoded meshes.
-// The selector byte of fuzz_input.hpp also chooses the conversion method (bits 3-4) and the
-// boundary policy (bit 5). Meshes are capped and convert gets a vertex budget, so that no single
+// The selector byte of fuzz_input.hpp also chooses the conversion method (bits 3-4: split,
+// hybrid, flip, split with a pass of local search) and the boundary policy (bit 5). Meshes are capped and convert gets a vertex budget, so that no single
 // input runs long. Bad meshes may only be refused with InvalidMeshError; results must satisfy
 // the identities every caller relies on.
 
@@ -116,6 +116,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                                   sdmesh::ConvertMethod::flip, sdmesh::ConvertMethod::split};
     sdmesh::ConvertOptions options;
     options.method = kMethods[(data[0] >> 3) & 3];
+    options.local_search = (data[0] >> 3 & 3) == 3 ? 1 : 0;
     options.boundary = (data[0] & 32) != 0 ? sdmesh::BoundaryPolicy::free : sdmesh::BoundaryPolicy::strict;
     options.max_vertices = kVertexBudget;
     try {
