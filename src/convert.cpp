@@ -965,7 +965,7 @@ private:
     std::vector<char> queued_;
     // The open trial of local_search(): what to take back if it does not pay.
     struct Trial {
-        size_t points = 0, edges = 0;  // P_.size(), mesh_.num_edges() at its start
+        size_t points, edges;  // P_.size(), mesh_.num_edges() at its start
         std::vector<std::pair<int, int>> input_edge;
         std::vector<std::pair<int, char>> in_plane, removed;
         std::vector<std::pair<int, std::array<int, 2>>> pieces;
