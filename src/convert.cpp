@@ -119,6 +119,7 @@ public:
         // edge order. queue_key: NaN for a locally Delaunay edge, else as for enqueue().
         const int edges = mesh_.num_edges();
         std::vector<double> queue_key(static_cast<size_t>(edges));
+        needs_point_.assign(static_cast<size_t>(edges), 0);
 #pragma omp parallel for schedule(static)
         for (int e = 0; e < edges; ++e) {
             input_flat_[e] = is_flat(e, coplanar_angle_);
@@ -127,7 +128,8 @@ public:
         for (int e = 0; e < edges; ++e) {
             if (std::isnan(queue_key[e])) continue;
             ++report.input_non_delaunay_edges;
-            if (!input_flat_[e]) ++report.input_nonflat_non_delaunay_edges;
+            needs_point_[e] = !input_flat_[e];
+            report.input_nonflat_non_delaunay_edges += needs_point_[e];
             enqueue(e, queue_key[e]);
         }
         vertex_budget_ = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
@@ -380,6 +382,13 @@ private:
                 std::sort(victims.begin(), victims.end());
                 victims.erase(std::unique(victims.begin(), victims.end()), victims.end());
                 if (victims.size() > kLocalSearchPoints) continue;
+                // A move saves nothing if each point it takes is the one an edge must keep.
+                int kept_anyway = 0;
+                for (const int ie : edges)
+                    kept_anyway += needs_point_[ie] && std::any_of(victims.begin(), victims.end(), [&](int y) {
+                        return vertex_input_edge_[y - input_vertices_] == ie;
+                    });
+                if (static_cast<int>(victims.size()) <= kept_anyway) continue;
                 const ConversionReport before = report;
                 begin_trial();
                 for (const int y : victims) {
@@ -958,6 +967,9 @@ private:
     std::vector<char> in_plane_;
     std::vector<double> input_length_;  // by input edge
     std::vector<char> input_flat_;  // by input edge, at the coplanar tolerance
+    // By input edge: a fold not locally Delaunay in the input. Whatever the split points
+    // elsewhere, its apexes see it under angles at least the input's, so it keeps a point.
+    std::vector<char> needs_point_;
     std::vector<int> vertex_input_edge_;  // by split point: the input edge it lies on, -1 inside a face
     std::vector<char> removed_;  // by split point: removed again
     long long vertex_budget_ = 0, flip_budget_ = 0;
