@@ -139,8 +139,9 @@ public:
             report.vertices_inside_faces == 0) {
             remove_unneeded_points(report);
             if (options_.local_search > 0) {
-                local_search(report);
-                remove_unneeded_points(report);  // what the search placed may let others go
+                // What the search changed may let other points go; elsewhere none can.
+                const std::vector<char> changed = local_search(report);
+                remove_unneeded_points(report, &changed);
             }
         }
     }
@@ -163,8 +164,9 @@ public:
     }
 
 private:
-    // Pops until the queues are empty or a budget is reached.
-    void drain(ConversionReport& report) {
+    // Pops until the queues are empty, a budget is reached, or the split that would make
+    // report.splits exceed max_splits.
+    void drain(ConversionReport& report, long long max_splits = std::numeric_limits<long long>::max()) {
         auto last_progress = Clock::now();
         while (true) {
             const int e = pop();
@@ -181,6 +183,8 @@ private:
                 continue;  // left for the final certificate to count
             } else if (mesh_.num_vertices() >= vertex_budget_) {
                 report.status = ConvertStatus::budget_exhausted;
+                break;
+            } else if (report.splits >= max_splits) {
                 break;
             } else {
                 if (input_edge_[e] < 0) ++report.vertices_inside_faces;
@@ -201,8 +205,9 @@ private:
     // triangulation is one of them); removing a point only shrinks the angles that the other
     // pieces see, so they stay locally Delaunay. x's spokes are flipped away until one is left
     // on each side, the split is undone, and Lawson flips restore the planes' triangulations;
-    // anything they left non-Delaunay would be split again by the same loop.
-    void remove_unneeded_points(ConversionReport& report) {
+    // anything they left non-Delaunay would be split again by the same loop. With `changed`
+    // (by input edge), only the points of the planes next to changed edges are tried first.
+    void remove_unneeded_points(ConversionReport& report, const std::vector<char>* changed = nullptr) {
         const int input_faces = static_cast<int>(input_.F.rows()), edges = input_edges_.num_edges();
         auto faces_of = [&](int e) {
             const int g = input_edges_.edge_halfedges(e, 1);
@@ -276,7 +281,13 @@ private:
             waiting[x - input_vertices_] = 1;
             to_try.push_back(x);
         };
-        for (int x = input_vertices_; x < split_points; ++x) try_later(x, -1);
+        if (!changed)
+            for (int x = input_vertices_; x < split_points; ++x) try_later(x, -1);
+        else
+            for (int e = 0; e < edges; ++e)
+                if ((*changed)[e])
+                    for (const int f : faces_of(e))
+                        if (f >= 0) for_each_point_in_plane_of(f, try_later);
         while (!to_try.empty() && report.status == ConvertStatus::certified) {
             const int x = to_try.front();
             to_try.pop_front();
@@ -332,6 +343,7 @@ private:
         mesh_.begin_trial();
     }
     void rollback() {
+        while (pop() >= 0) {}  // what a stopped drain left queued
         auto undo = [](auto& array, auto& log) {
             for (auto it = log.rbegin(); it != log.rend(); ++it) array[it->first] = it->second;
         };
@@ -353,11 +365,13 @@ private:
     // two input faces are removed and the loop places them again, with everything else in
     // place; the result is kept if it has fewer vertices, else taken back. Greedy placement
     // decides each point before its neighbours exist; here each is decided again after.
-    void local_search(ConversionReport& report) {
+    // Returns which input edges got or lost points.
+    std::vector<char> local_search(ConversionReport& report) {
         // The split points on each input edge; ids taken back by a rollback may linger.
         std::vector<std::vector<int>> on_edge(static_cast<size_t>(input_edges_.num_edges()));
         size_t indexed = static_cast<size_t>(input_vertices_);
         std::vector<int> edges, victims;
+        std::vector<char> changed(on_edge.size(), 0);
         for (int pass = 0; pass < options_.local_search; ++pass) {
             const int points = static_cast<int>(P_.size());
             for (int x = input_vertices_; x < points && report.status == ConvertStatus::certified; ++x) {
@@ -395,10 +409,14 @@ private:
                     if (!undo_split(y, report)) break;
                     ++report.removed_points;
                 }
-                drain(report);
+                // It pays only with fewer points than it took: stop before as many are placed.
+                drain(report, before.splits + (report.removed_points - before.removed_points));
                 const long long added = report.splits - report.removed_points;
                 if (report.status == ConvertStatus::certified && report.vertices_inside_faces == 0 &&
                     added < before.splits - before.removed_points) {
+                    for (const int ie : edges) changed[ie] = 1;
+                    for (size_t y = trial_->points; y < P_.size(); ++y)
+                        if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0) changed[ie] = 1;
                     commit();
                     report.local_search_saved += before.splits - before.removed_points - added;
                     continue;
@@ -407,14 +425,10 @@ private:
                 rollback();
                 report = before;
                 indexed = std::min(indexed, P_.size());
-                if (out_of_budget) {  // the next moves would run out too; the mesh is as before
-                    flat_queue_.clear();
-                    physical_queue_ = {};
-                    std::fill(queued_.begin(), queued_.end(), 0);
-                    return;
-                }
+                if (out_of_budget) return changed;  // the next moves would run out too; the mesh is as before
             }
         }
+        return changed;
     }
 
     int other_end(int e, int v) const {
