@@ -43,6 +43,9 @@ constexpr int kDyadicBits = 6;
 // Where a split must break a physical side, this many dyadic positions of each range are tried
 // besides the usual one (see least_cascading; 3, 8 and 20 measured: 8 about as good as 20).
 constexpr int kCascadeDyadics = 8;
+// A physical hinge's place in the queue is its length, made up to this fraction longer the less
+// room its halves leave for the split point (0.1-0.35 measured alike; 0.5 and more cost cheese).
+constexpr double kLittleRoomFirst = 0.15;
 // Local search places again at most this many split points at once: more (dense fans of
 // needles) cost time that grows with them and rarely pay (16, 32 and unlimited measured alike).
 constexpr size_t kLocalSearchPoints = 16;
@@ -116,21 +119,21 @@ public:
 
     void run(ConversionReport& report) {
         // Each edge's tests read only its hinge, so they run in parallel; the queue is filled in
-        // edge order. queue_key: NaN for a locally Delaunay edge, else as for enqueue().
+        // edge order. keys: NaN for a locally Delaunay edge, else as for enqueue().
         const int edges = mesh_.num_edges();
-        std::vector<double> queue_key(static_cast<size_t>(edges));
+        std::vector<double> keys(static_cast<size_t>(edges));
         needs_point_.assign(static_cast<size_t>(edges), 0);
 #pragma omp parallel for schedule(static)
         for (int e = 0; e < edges; ++e) {
             input_flat_[e] = is_flat(e, coplanar_angle_);
-            queue_key[e] = is_delaunay(e) ? std::numeric_limits<double>::quiet_NaN() : queue_length(e);
+            keys[e] = is_delaunay(e) ? std::numeric_limits<double>::quiet_NaN() : queue_key(e);
         }
         for (int e = 0; e < edges; ++e) {
-            if (std::isnan(queue_key[e])) continue;
+            if (std::isnan(keys[e])) continue;
             ++report.input_non_delaunay_edges;
             needs_point_[e] = !input_flat_[e];
             report.input_nonflat_non_delaunay_edges += needs_point_[e];
-            enqueue(e, queue_key[e]);
+            enqueue(e, keys[e]);
         }
         vertex_budget_ = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
         flip_budget_ = options_.max_flips > 0 ? options_.max_flips : 100LL * mesh_.num_edges() + 1'000'000;
@@ -937,20 +940,27 @@ private:
     // Edges are pushed whenever their hinge changes, so one that is locally Delaunay then can
     // stay out (most are: 80 % of the pushes on the skull).
     void push(int e) {
-        if (!queued_[e] && !is_delaunay(e)) enqueue(e, queue_length(e));
+        if (!queued_[e] && !is_delaunay(e)) enqueue(e, queue_key(e));
     }
-    // -1 for a flat edge, else its length (the physical queue's key).
-    double queue_length(int e) const {
+    // -1 for a flat edge, else the physical queue's key: the length, counted up to
+    // kLittleRoomFirst longer when I0 (where both halves are locally Delaunay) is a small part of
+    // the edge. Among hinges of similar length, the one whose split point has the least choice
+    // goes first and the others fit around it: vertices added per non-Delaunay edge, measured
+    // against the length alone, cheese 14.76 -> 13.26, mushroom 2.84 -> 2.66, koala 2.54 -> 2.49.
+    double queue_key(int e) const {
         if (is_flat(e, flat_angle_)) return -1;
-        const int h = mesh_.halfedge(e);
-        return dist(mesh_.tail(h), mesh_.head(h));
+        const Hinge k = hinge(e);
+        const double l = dist(k.a, k.b);
+        const Interval halves = delaunay_halves_interval(k, l);
+        const double room = std::clamp((halves.hi - halves.lo) / l, 0.0, 1.0);
+        return l * (1 + kLittleRoomFirst * (1 - room));
     }
-    void enqueue(int e, double length) {
+    void enqueue(int e, double key) {
         queued_[e] = 1;
-        if (length < 0)
+        if (key < 0)
             flat_queue_.push_back(e);
         else
-            physical_queue_.emplace(length, e);
+            physical_queue_.emplace(key, e);
     }
 
     int pop() {
