@@ -956,7 +956,8 @@ private:
         const Hinge k = hinge(e);
         const double l = dist(k.a, k.b);
         const Interval halves = delaunay_halves_interval(k, l);
-        const double room = std::clamp((halves.hi - halves.lo) / l, 0.0, 1.0);
+        // 0 for an empty I0, and for degenerate hinges (NaN bounds): keys must stay ordered.
+        const double room = halves.hi > halves.lo ? std::min((halves.hi - halves.lo) / l, 1.0) : 0.0;
         const bool clean = outer_sides(k, l).most_weight(away_from_ends(halves, l, kEndClearance)).keeps_physical;
         return l * (1 + kLittleRoomFirst * (1 - room) + (clean ? kCleanFirst : 0));
     }
