@@ -321,6 +321,18 @@ TEST(ConvertMethods, NoSplitPointCanGoAlone) {
     }
 }
 
+// A bumpy grid of valence-6 cells has non-Delaunay diagonals whose cells share sides. Placed
+// together (split_together), each of their split points keeps every side locally Delaunay and
+// each diagonal takes one point, the lower bound; placed one by one, 5 more points were needed.
+TEST(ConvertMethods, NeighbouringSplitsOfAGridTakeOnePointEach) {
+    const TriangleMesh grid = bumpy(make_grid(20, 20), 0.05);
+    const ConversionResult result = convert(grid, {.boundary = BoundaryPolicy::free});
+    const ConversionReport& r = result.report;
+    ASSERT_EQ(r.status, ConvertStatus::certified);
+    EXPECT_EQ(r.input_nonflat_non_delaunay_edges, 200);
+    EXPECT_EQ(r.output_vertices - r.input_vertices, r.input_nonflat_non_delaunay_edges);
+}
+
 // The needles of a fan get their split points in rings around the apex. Before, with 180
 // needles, rings out of step marched along them and the conversion ran out of its vertex
 // budget (more than 100,000 vertices for 140 non-Delaunay edges; now 14,043).
