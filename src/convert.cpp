@@ -234,24 +234,29 @@ private:
             bool left_out = false;
         };
         const int edges = mesh_.num_edges();
-        auto needs_split = [&](int e) { return queued_[e] && !is_flat(e, flat_angle_); };
+        // Nothing is split yet: the split method's flat edges are the input's.
+        const bool flat_as_input = flat_angle_.angle == coplanar_angle_.angle;
+        auto flat = [&](int e) { return flat_as_input ? input_flat_[e] != 0 : is_flat(e, flat_angle_); };
+        std::vector<char> needs_split(static_cast<size_t>(edges), 0);
         std::vector<int> in_face(static_cast<size_t>(mesh_.num_faces()), 0);
         for (int e = 0; e < edges; ++e)
-            if (needs_split(e))
+            if (queued_[e] && !flat(e)) {
+                needs_split[e] = 1;
                 for (const int h : {mesh_.halfedge(e), mesh_.twin(mesh_.halfedge(e))})
                     if (h >= 0) ++in_face[HalfedgeMesh::face(h)];
+            }
         std::vector<int> index(static_cast<size_t>(edges), -1);
         std::vector<Edge> group;
         for (int e = 0; e < edges; ++e) {
-            if (!needs_split(e) || needle_end(input_edge_[e]) >= 0) continue;  // needles: shells
+            if (!needs_split[e]) continue;
+            const int h = mesh_.halfedge(e), t = mesh_.twin(h);
+            if (in_face[HalfedgeMesh::face(h)] > 1 || (t >= 0 && in_face[HalfedgeMesh::face(t)] > 1)) continue;
+            bool flat_side = false;
+            for (const int g : {h, t})
+                if (g >= 0)
+                    flat_side = flat_side || flat(mesh_.edge(HalfedgeMesh::next(g))) || flat(mesh_.edge(HalfedgeMesh::prev(g)));
+            if (flat_side || needle_end(input_edge_[e]) >= 0) continue;  // needles take shells
             const Hinge k = hinge(e);
-            bool alone = true;  // no other such edge, no flat side in its faces
-            for (const int h : {k.h, mesh_.twin(k.h)})
-                if (h >= 0)
-                    alone = alone && in_face[HalfedgeMesh::face(h)] == 1 &&
-                            !is_flat(mesh_.edge(HalfedgeMesh::next(h)), flat_angle_) &&
-                            !is_flat(mesh_.edge(HalfedgeMesh::prev(h)), flat_angle_);
-            if (!alone) continue;
             index[e] = static_cast<int>(group.size());
             Edge& edge = group.emplace_back();
             edge.e = e, edge.k = k, edge.l = dist(k.a, k.b);
@@ -855,7 +860,7 @@ private:
             if (!(sides.physical >> i & 1u) || across < 0) continue;
             for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)}) {
                 const int e = mesh_.edge(g);
-                if (!is_flat(e, flat_angle_) && !is_delaunay(e) && !splits_cleanly(e)) found |= 1u << i;
+                if (queued_[e] && !is_flat(e, flat_angle_) && !is_delaunay(e) && !splits_cleanly(e)) found |= 1u << i;
             }
         }
         return found;
@@ -914,10 +919,11 @@ private:
             if (h < 0) continue;
             for (const int side : {HalfedgeMesh::next(h), HalfedgeMesh::prev(h)}) {
                 const int across = mesh_.twin(side);
-                if (across < 0 || is_flat(mesh_.edge(side), flat_angle_)) continue;
+                if (across < 0) continue;
                 for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)}) {
                     const int e = mesh_.edge(g);
-                    if (!is_flat(e, flat_angle_) && !is_delaunay(e) && splits_cleanly(e))
+                    if (queued_[e] && !is_flat(e, flat_angle_) && !is_delaunay(e) &&
+                        !is_flat(mesh_.edge(side), flat_angle_) && splits_cleanly(e))
                         found.pending[found.count++] = {mesh_.edge(side), e};
                 }
             }
@@ -1228,6 +1234,7 @@ private:
     std::vector<char> removed_;  // by split point: removed again
     long long vertex_budget_ = 0, flip_budget_ = 0;
     std::vector<std::array<int, 2>> pieces_;  // by split point on an input edge: its two pieces
+    // By edge: in a queue. Every edge not locally Delaunay is, but the one being split.
     std::vector<char> queued_;
     // The open trial of local_search(): what to take back if it does not pay.
     struct Trial {
