@@ -238,27 +238,18 @@ private:
         // Nothing is split yet: the split method's flat edges are the input's.
         const bool flat_as_input = flat_angle_.angle == coplanar_angle_.angle;
         auto flat = [&](int e) { return flat_as_input ? input_flat_[e] != 0 : is_flat(e, flat_angle_); };
-        std::vector<char> needs_split(static_cast<size_t>(edges), 0);
-        std::vector<int> in_face(static_cast<size_t>(mesh_.num_faces()), 0);
-        for (int e = 0; e < edges; ++e)
-            if (queued_[e] && !flat(e)) {
-                needs_split[e] = 1;
-                for (const int h : {mesh_.halfedge(e), mesh_.twin(mesh_.halfedge(e))})
-                    if (h >= 0) ++in_face[HalfedgeMesh::face(h)];
-            }
-        std::vector<int> index(static_cast<size_t>(edges), -1);
-        std::vector<Edge> group;
+        auto needs_split = [&](int e) { return queued_[e] && !flat(e); };
+        std::vector<Edge> group;  // by increasing edge id
         for (int e = 0; e < edges; ++e) {
-            if (!needs_split[e]) continue;
-            const int h = mesh_.halfedge(e), t = mesh_.twin(h);
-            if (in_face[HalfedgeMesh::face(h)] > 1 || (t >= 0 && in_face[HalfedgeMesh::face(t)] > 1)) continue;
-            bool flat_side = false;
-            for (const int g : {h, t})
-                if (g >= 0)
-                    flat_side = flat_side || flat(mesh_.edge(HalfedgeMesh::next(g))) || flat(mesh_.edge(HalfedgeMesh::prev(g)));
-            if (flat_side || needle_end(input_edge_[e]) >= 0) continue;  // needles take shells
+            if (!needs_split(e)) continue;
+            // Alone in its faces, with no flat side, and not a needle (needles take shells).
+            bool alone = true;
+            for (const int h : {mesh_.halfedge(e), mesh_.twin(mesh_.halfedge(e))})
+                if (h >= 0)
+                    for (const int side : {mesh_.edge(HalfedgeMesh::next(h)), mesh_.edge(HalfedgeMesh::prev(h))})
+                        alone = alone && !needs_split(side) && !flat(side);
+            if (!alone || needle_end(input_edge_[e]) >= 0) continue;
             const Hinge k = hinge(e);
-            index[e] = static_cast<int>(group.size());
             Edge& edge = group.emplace_back();
             edge.e = e, edge.k = k, edge.l = dist(k.a, k.b);
             edge.room = away_from_ends(delaunay_halves_interval(k, edge.l), edge.l, kEndClearance);
@@ -271,7 +262,10 @@ private:
                 for (Side side : {Side{from_a, edge.k.a, edge.k.b, false, -1}, Side{from_b, edge.k.b, edge.k.a, true, -1}}) {
                     if (const int across = mesh_.twin(side.h); across >= 0)
                         for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)})
-                            if (index[mesh_.edge(g)] >= 0) side.partner = index[mesh_.edge(g)];
+                            if (const auto it = std::lower_bound(group.begin(), group.end(), mesh_.edge(g),
+                                                                 [](const Edge& x, int e) { return x.e < e; });
+                                it != group.end() && it->e == mesh_.edge(g))
+                                side.partner = static_cast<int>(it - group.begin());
                     edge.sides[edge.count++] = side;
                     edge.left_out = edge.left_out && side.partner < 0;
                 }
