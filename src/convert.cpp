@@ -210,15 +210,15 @@ private:
     // cells, where the non-Delaunay diagonals of neighbouring cells share outer sides, the first
     // point takes the room a neighbour needed, and the neighbour's split then breaks a side. Here
     // each such edge gets an interval of positions: I0 less the ends, less the positions that
-    // break a physical outer side. A side shared with another such edge's face constrains the
-    // two edges' points together, monotonically (the nearer a point gets to the side, the wider
-    // it sees it), so each interval is narrowed against the most permissive end of the other
-    // until none changes; then each point is fixed in turn where the queue would put it inside its
-    // interval (sparing_neighbours), narrowing its partners'. An edge without partners, or whose interval empties, is left to the
-    // queue (measured: planning lone edges too costs 0.2 % more vertices). Edges next to
-    // planes (flat sides) are left out: a plane's points all see its folds. Measured against the
-    // queue alone: mountain 1.52 -> 1.37 vertices added per non-Delaunay edge, a bumpy grid 1.02
-    // -> 1.00.
+    // break a physical outer side. A side shared with another such edge's face (its partner)
+    // constrains the two points together, monotonically (the nearer a point gets to the side, the
+    // wider it sees it), so each interval is narrowed against the most permissive end of the
+    // other's until none changes; then each point is fixed in turn where the queue would put it
+    // inside its interval (sparing_neighbours), narrowing its partners'. An edge without
+    // partners, or whose interval empties, is left to the queue (planning lone edges too: 0.2 %
+    // more vertices), and so are edges next to planes (a plane's points all see its folds).
+    // Measured against the queue alone: mountain 1.52 -> 1.37 vertices added per non-Delaunay
+    // edge, a bumpy grid 1.02 -> 1.00.
     void split_together(ConversionReport& report) {
         struct Side {
             int h, from, to;
@@ -259,7 +259,8 @@ private:
                 if (h < 0) continue;
                 const int from_a = h == edge.k.h ? HalfedgeMesh::prev(h) : HalfedgeMesh::next(h);
                 const int from_b = h == edge.k.h ? HalfedgeMesh::next(h) : HalfedgeMesh::prev(h);
-                for (Side side : {Side{from_a, edge.k.a, edge.k.b, false, -1}, Side{from_b, edge.k.b, edge.k.a, true, -1}}) {
+                for (Side side :
+                     {Side{from_a, edge.k.a, edge.k.b, false, -1}, Side{from_b, edge.k.b, edge.k.a, true, -1}}) {
                     if (const int across = mesh_.twin(side.h); across >= 0)
                         for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)})
                             if (const auto it = std::lower_bound(group.begin(), group.end(), mesh_.edge(g),
@@ -285,8 +286,11 @@ private:
                     // The partner's point that sees the side under the narrowest angle.
                     const Edge& partner = group[side.partner];
                     const Eigen::Vector3d u = P_[mesh_.tail(side.h)], w = P_[mesh_.head(side.h)];
-                    auto cosine = [&](const Eigen::Vector3d& y) { return (u - y).normalized().dot((w - y).normalized()); };
-                    const Eigen::Vector3d lo = point_at(partner, partner.room.lo), hi = point_at(partner, partner.room.hi);
+                    auto cosine = [&](const Eigen::Vector3d& y) {
+                        return (u - y).normalized().dot((w - y).normalized());
+                    };
+                    const Eigen::Vector3d lo = point_at(partner, partner.room.lo);
+                    const Eigen::Vector3d hi = point_at(partner, partner.room.hi);
                     const Across future{mesh_.edge(side.h), cosine(lo) >= cosine(hi) ? lo : hi};
                     keeps = outer_side_interval(side.h, side.from, side.to, edge.l, side.from_b, &future);
                 }
@@ -321,7 +325,8 @@ private:
             // Off the interval's ends, which are co-circular with a side's apexes.
             const double inset = 1e-3 * (edge.room.hi - edge.room.lo);
             const Interval inside{edge.room.lo + inset, edge.room.hi - inset};
-            position[i] = std::clamp(sparing_neighbours(edge.k, edge.l, inside, input_edge_[edge.e]), inside.lo, inside.hi);
+            const double t = sparing_neighbours(edge.k, edge.l, inside, input_edge_[edge.e]);
+            position[i] = std::clamp(t, inside.lo, inside.hi);
             edge.room = {position[i], position[i]};
             wake_partners(edge);
             settle();
@@ -806,9 +811,9 @@ private:
     // vertex at least; it costs more if that side's own split must break a physical side again
     // (a cascade). Among the usual position of each choice of sides and the simplest dyadic
     // fractions of its range, the one with the most weight kept less the broken physical sides
-    // whose split would cascade and the clean neighbours it spoils; the first of equals. Measured against the usual position of the
-    // choice of most weight: nefertiti 1.88 -> 1.76 vertices added per non-Delaunay edge,
-    // boot 2.42 -> 2.22, koala 2.78 -> 2.54.
+    // whose split would cascade and the clean neighbours it spoils; the first of equals.
+    // Measured against the usual position of the choice of most weight: nefertiti 1.88 -> 1.76
+    // vertices added per non-Delaunay edge, boot 2.42 -> 2.22, koala 2.78 -> 2.54.
     double least_cascading(const Hinge& k, double l, const OuterSides& sides, Interval within, int on_input_edge) const {
         // The candidates, in order, without repeats: up to 16 choices of the 4 sides.
         std::array<double, 16 * (1 + kCascadeDyadics)> positions;
@@ -1049,7 +1054,8 @@ private:
     // across the side, i.e. at least D = 2·(c - from)·u from `from` along u = (to - from)/l.
     // Boundary side: x must see it at an angle <= π/2 (strict policy), a circle with the side as
     // diameter. `from_b` mirrors the result for measuring from b. `future` may stand for w.
-    Interval outer_side_interval(int side, int from, int to, double l, bool from_b, const Across* future = nullptr) const {
+    Interval outer_side_interval(int side, int from, int to, double l, bool from_b,
+                                 const Across* future = nullptr) const {
         const int apex = mesh_.tail(side) == from ? mesh_.head(side) : mesh_.tail(side);
         const int across = mesh_.twin(side);
         if (across < 0) return side_interval(l, dist(from, apex), dist(to, apex), -1, -1, from_b);
