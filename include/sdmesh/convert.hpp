@@ -35,7 +35,8 @@ enum class SplitRule {
     /// need a vertex, flat ones only a flip; where a non-flat one must break, preferably one whose
     /// own split will not break another); pieces shorter than a quarter of their input edge
     /// that end at an input vertex follow the shells below, which stops small input angles from
-    /// cascading.
+    /// cascading. Non-Delaunay edges whose faces share outer edges (a terrain's grid cells) are
+    /// split first, at positions chosen together so that the shared edges stay Delaunay.
     interval,
     /// On concentric shells around input vertices (Dyer's rule, after Ruppert): at a power of
     /// two of a fixed unit from the input endpoint, within [l/3, 2l/3); the midpoint otherwise.
