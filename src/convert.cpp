@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <deque>
 #include <limits>
@@ -51,6 +52,10 @@ constexpr double kLittleRoomFirst = 0.35, kCleanFirst = 0.3;
 // Local search places again at most this many split points at once: more (dense fans of
 // needles) cost time that grows with them and rarely pay (16, 32 and unlimited measured alike).
 constexpr size_t kLocalSearchPoints = 16;
+// The lower bound counts two intervals on an edge as meeting when they are less than this
+// fraction of its length apart: rounding and the locally-Delaunay tolerance cannot then make it
+// claim more than a conversion needs.
+constexpr double kBoundSlack = 1e-6;
 // An input edge with a face corner below this at one end (and none at the other) is a needle of
 // a fan: all its split points follow shells around that end (see split_distance).
 constexpr double kNeedleCorner = std::numbers::pi / 180;
@@ -137,6 +142,8 @@ public:
             report.input_nonflat_non_delaunay_edges += needs_point_[e];
             enqueue(e, keys[e]);
         }
+        if (options_.method == ConvertMethod::split && options_.lower_bound)
+            report.added_vertices_lower_bound = added_vertices_lower_bound();
         vertex_budget_ = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
         flip_budget_ = options_.max_flips > 0 ? options_.max_flips : 100LL * mesh_.num_edges() + 1'000'000;
         if (options_.method != ConvertMethod::flip && options_.split_rule == SplitRule::interval) split_together(report);
@@ -203,6 +210,94 @@ private:
                              report.flips, flat_queue_.size() + physical_queue_.size(), mesh_.num_vertices());
             }
         }
+    }
+
+    // ConversionReport::added_vertices_lower_bound, from the input (before any split). Every
+    // output vertex lies on an input edge, and the apexes of a piece of a physical edge see it
+    // under angles no smaller than its input apexes do (more points only widen them). So a
+    // physical edge e that gets points has its first one within I0's bound from a, its last
+    // within the bound from b, and each physical outer side that gets none sees every point of
+    // e from outside the circle through its ends and its input apex across (its keep interval).
+    // A side whose interval misses either bound must get a point too (an implication); of two
+    // sides with disjoint intervals, one must (a clause). The bound: the edges that the
+    // non-Delaunay folds imply, transitively, plus a matching of the clauses they leave open
+    // (each needs an edge of its own). Within 0.5 % of the exact optimum of these constraints
+    // on the corpus meshes (an integer program, solved aside).
+    long long added_vertices_lower_bound() const {
+        const int edges = mesh_.num_edges();
+        std::vector<std::uint16_t> requirements(static_cast<size_t>(edges), 0);
+#pragma omp parallel for schedule(static)
+        for (int e = 0; e < edges; ++e)
+            if (!input_flat_[e]) requirements[e] = side_requirements(e);
+        std::vector<char> gets_point(static_cast<size_t>(edges), 0);
+        std::vector<int> reached;
+        for (int e = 0; e < edges; ++e)
+            if (needs_point_[e]) gets_point[e] = 1, reached.push_back(e);
+        long long bound = static_cast<long long>(reached.size());
+        while (!reached.empty()) {
+            const int e = reached.back();
+            reached.pop_back();
+            const OuterSideEdges sides = outer_side_edges(e);
+            for (int i = 0; i < sides.count; ++i)
+                if ((requirements[e] >> i & 1u) && !gets_point[sides.edge[i]])
+                    gets_point[sides.edge[i]] = 1, reached.push_back(sides.edge[i]), ++bound;
+        }
+        std::vector<char> matched(static_cast<size_t>(edges), 0);
+        for (int e = 0; e < edges; ++e) {
+            if (!gets_point[e] || requirements[e] < 16) continue;
+            const OuterSideEdges sides = outer_side_edges(e);
+            for (int i = 0, pair = 4; i < sides.count; ++i)
+                for (int j = i + 1; j < sides.count; ++j, ++pair) {
+                    const int u = sides.edge[i], w = sides.edge[j];
+                    if ((requirements[e] >> pair & 1u) && !gets_point[u] && !gets_point[w] && !matched[u] &&
+                        !matched[w])
+                        matched[u] = matched[w] = 1, ++bound;
+                }
+        }
+        return bound;
+    }
+    // The edges of the outer sides of physical edge e, in the order of outer_sides().
+    struct OuterSideEdges {
+        std::array<int, 4> edge;
+        int count = 0;
+    };
+    OuterSideEdges outer_side_edges(int e) const {
+        OuterSideEdges sides;
+        const int h = mesh_.halfedge(e);
+        for (const int g : {h, mesh_.twin(h)}) {
+            if (g < 0) continue;
+            const int from_a = g == h ? HalfedgeMesh::prev(g) : HalfedgeMesh::next(g);
+            const int from_b = g == h ? HalfedgeMesh::next(g) : HalfedgeMesh::prev(g);
+            sides.edge[sides.count++] = mesh_.edge(from_a);
+            sides.edge[sides.count++] = mesh_.edge(from_b);
+        }
+        return sides;
+    }
+    // What a point on physical edge e asks of its physical outer sides (see
+    // added_vertices_lower_bound): bit i, side i must get a point; bit 4 + p, one of the p-th
+    // pair of sides (0-1, 0-2, 0-3, 1-2, 1-3, 2-3) must.
+    std::uint16_t side_requirements(int e) const {
+        const Hinge k = hinge(e);
+        const double l = dist(k.a, k.b);
+        const Interval halves = k.s < 0 && options_.boundary == BoundaryPolicy::free
+                                    ? Interval{0, l}
+                                    : delaunay_halves_interval(k, l);
+        const OuterSides sides = outer_sides(k, l);
+        // NaN bounds (degenerate hinges) meet everything: no requirement.
+        auto meet = [slack = kBoundSlack * l](Interval p, Interval q) {
+            return !(p.lo > q.hi + slack) && !(q.lo > p.hi + slack);
+        };
+        unsigned found = 0;
+        for (int i = 0; i < sides.count; ++i)
+            if ((sides.physical >> i & 1u) &&
+                (!meet(sides.keeps[i], {0, halves.hi}) || !meet(sides.keeps[i], {halves.lo, l})))
+                found |= 1u << i;
+        for (int i = 0, pair = 4; i < sides.count; ++i)
+            for (int j = i + 1; j < sides.count; ++j, ++pair)
+                if ((sides.physical >> i & sides.physical >> j & 1u) && !((found >> i | found >> j) & 1u) &&
+                    !meet(sides.keeps[i], sides.keeps[j]))
+                    found |= 1u << pair;
+        return static_cast<std::uint16_t>(found);
     }
 
     // Physical non-Delaunay edges that need one split point each, placed together before the

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,22 @@ TEST_F(Cli, CheckJsonHasTheDocumentedKeys) {
         EXPECT_NE(r.out.find(std::string(1, '"').append(key).append("\": ")), std::string::npos) << key;
     EXPECT_NE(r.out.find("\"faces\": 3674"), std::string::npos);
     EXPECT_NE(r.out.find("\"self_delaunay\": false"), std::string::npos);
+}
+
+TEST_F(Cli, ConvertReportHasTheDocumentedKeys) {
+    const CliRun r = run_cli("convert " + kBunny + " " + path("bunny_sd.obj") + " --lower-bound --report " +
+                             path("report.json"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    for (const char* key : {"input_vertices", "output_vertices", "input_non_delaunay_edges",
+                            "input_nonflat_non_delaunay_edges", "flips", "splits", "unflippable_edges",
+                            "removed_points", "added_vertices_lower_bound", "status", "seconds", "hausdorff_rel",
+                            "certificate"})
+        EXPECT_NE(r.out.find(std::string(1, '"').append(key).append("\": ")), std::string::npos) << key;
+    EXPECT_NE(r.out.find("\"status\": \"certified\""), std::string::npos);
+    EXPECT_EQ(r.out.find("\"added_vertices_lower_bound\": -1"), std::string::npos);  // asked for: computed
+    std::ifstream report(path("report.json"));
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(report), {}), r.out);
+    EXPECT_EQ(run_cli("check " + path("bunny_sd.obj")).code, 0);
 }
 
 TEST_F(Cli, EveryCommandPrintsItsOwnHelp) {

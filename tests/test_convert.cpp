@@ -153,7 +153,12 @@ class ConvertSplit : public Convert {};
 
 TEST_P(ConvertSplit, MovesNothing) {
     const TriangleMesh input = adversarial(GetParam().mesh);
-    const ConversionResult result = convert(input, GetParam().options);
+    ConvertOptions options = GetParam().options;
+    options.lower_bound = true;
+    const ConversionResult result = convert(input, options);
+    // Any conversion that moves nothing adds at least the lower bound, this one included.
+    EXPECT_GE(result.report.added_vertices_lower_bound, result.report.input_nonflat_non_delaunay_edges);
+    EXPECT_LE(result.report.added_vertices_lower_bound, result.mesh.num_vertices() - input.num_vertices());
     const double diagonal = bounding_box_diagonal(input);
     const double tol = 1e-12 * diagonal;
     EXPECT_EQ(result.report.vertices_inside_faces, 0);
@@ -326,11 +331,39 @@ TEST(ConvertMethods, NoSplitPointCanGoAlone) {
 // each diagonal takes one point, the lower bound; placed one by one, 5 more points were needed.
 TEST(ConvertMethods, NeighbouringSplitsOfAGridTakeOnePointEach) {
     const TriangleMesh grid = bumpy(make_grid(20, 20), 0.05);
-    const ConversionResult result = convert(grid, {.boundary = BoundaryPolicy::free});
+    const ConversionResult result = convert(grid, {.boundary = BoundaryPolicy::free, .lower_bound = true});
     const ConversionReport& r = result.report;
     ASSERT_EQ(r.status, ConvertStatus::certified);
     EXPECT_EQ(r.input_nonflat_non_delaunay_edges, 200);
     EXPECT_EQ(r.output_vertices - r.input_vertices, r.input_nonflat_non_delaunay_edges);
+    EXPECT_EQ(r.added_vertices_lower_bound, 200);
+}
+
+// A cap a-r-b over the non-Delaunay fold a-b, whose sides a-r and r-b have obtuse apexes w, w'
+// across (98.6° in 3D): a point on a-b keeps a-r only beyond the foot of r towards b
+// (where it sees a-r under at most 81.4°), and r-b only before it. Every conversion must put a
+// point on a-r or r-b as well: the lower bound is 2, not 1.
+TEST(ConvertMethods, LowerBoundCountsTheSideThatMustBreak) {
+    TriangleMesh cap;
+    cap.V.resize(6, 3);
+    cap.V << 0, 0, 0,          // a
+        2, 0, 0,               // b
+        1, 0.1, 0,             // r
+        1, -1, 0.3,            // s
+        0.458, 0.468, 0.1,     // w
+        1.542, 0.468, 0.1;     // w'
+    cap.F.resize(4, 3);
+    cap.F << 0, 1, 2,  1, 0, 3,  2, 4, 0,  1, 5, 2;
+    const ConvertOptions options{.boundary = BoundaryPolicy::free, .lower_bound = true};
+    const ConversionResult result = convert(cap, options);
+    const ConversionReport& r = result.report;
+    ASSERT_EQ(r.status, ConvertStatus::certified);
+    EXPECT_EQ(r.input_nonflat_non_delaunay_edges, 1);
+    EXPECT_EQ(r.added_vertices_lower_bound, 2);
+    EXPECT_GE(r.output_vertices - r.input_vertices, 2);
+    EXPECT_EQ(convert(cap, {.boundary = BoundaryPolicy::free}).report.added_vertices_lower_bound, -1);  // not asked
+    EXPECT_EQ(convert(cap, {.method = ConvertMethod::hybrid, .lower_bound = true}).report.added_vertices_lower_bound,
+              -1);  // flips move apexes: no bound
 }
 
 // The needles of a fan get their split points in rings around the apex. Before, with 180
@@ -421,15 +454,18 @@ class ConvertCorpus : public ::testing::TestWithParam<std::string> {};
 TEST_P(ConvertCorpus, SplitAndHybridAreCertified) {
     if (!test::corpus_available()) GTEST_SKIP() << "corpus not found at " << test::corpus_dir();
     const TriangleMesh input = read_mesh(test::corpus_dir() / GetParam());
-    for (const ConvertOptions& options :
-         {ConvertOptions{}, ConvertOptions{.method = ConvertMethod::hybrid, .max_dihedral_deg = 10}}) {
+    for (const ConvertOptions& options : {ConvertOptions{.lower_bound = true},
+                                          ConvertOptions{.method = ConvertMethod::hybrid, .max_dihedral_deg = 10}}) {
         const ConversionResult result = convert(input, options);
         EXPECT_EQ(result.report.status, ConvertStatus::certified) << to_string(options.method);
         EXPECT_EQ(result.report.certificate.negative_dual_cells, 0) << to_string(options.method);
         EXPECT_EQ(validate(result.mesh).zero_area_faces, 0);
-        // Each non-flat non-Delaunay input edge needs at least one new vertex (ALGORITHMS.md §3).
+        // Any conversion that moves nothing adds at least the lower bound, which counts at least
+        // one vertex per non-flat non-Delaunay input edge (ALGORITHMS.md §3).
         if (options.method == ConvertMethod::split) {
-            EXPECT_GE(result.report.splits, result.report.input_nonflat_non_delaunay_edges);
+            EXPECT_GE(result.report.added_vertices_lower_bound, result.report.input_nonflat_non_delaunay_edges);
+            EXPECT_LE(result.report.added_vertices_lower_bound,
+                      result.report.output_vertices - result.report.input_vertices);
         }
     }
 }

@@ -72,6 +72,8 @@ struct ConvertOptions {
     /// result is kept where it has fewer vertices (see experiments/README.md for what it saves
     /// and costs). 0 = none.
     int local_search = 0;
+    /// split: also compute report.added_vertices_lower_bound (linear in the mesh size).
+    bool lower_bound = false;
     /// Print a progress line to stderr about every second.
     bool progress = false;
     /// Compute the two-sided sampled Hausdorff distance output <-> input (0 for split).
@@ -94,6 +96,11 @@ struct ConversionReport {
     long long removed_points = 0;
     /// split: vertices fewer thanks to local search (options.local_search); included above
     long long local_search_saved = 0;
+    /// split with options.lower_bound: at least this many vertices must be added by any
+    /// conversion that keeps the surface and puts its vertices on input edges (this one
+    /// included), from what a split point asks of the edges next to it; -1 when not computed.
+    /// Always >= input_nonflat_non_delaunay_edges.
+    long long added_vertices_lower_bound = -1;
     ConvertStatus status = ConvertStatus::certified;
     double seconds = 0;
     double hausdorff_rel = 0;  ///< two-sided, relative to the input's bounding-box diagonal

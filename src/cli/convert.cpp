@@ -17,8 +17,8 @@ namespace {
 
 constexpr const char* kConvertUsage =
     "sdmesh convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell] [--max-dihedral DEG] "
-    "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--local-search PASSES] [--repair] "
-    "[--report FILE.json] [--progress]";
+    "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--local-search PASSES] [--lower-bound] "
+    "[--repair] [--report FILE.json] [--progress]";
 
 }  // namespace
 
@@ -41,6 +41,7 @@ int run_convert(Args& args) {
     if (!(passes >= 0 && passes <= 100 && passes == std::floor(passes)))
         throw UsageError("convert: --local-search expects a whole number of passes from 0 to 100");
     options.local_search = static_cast<int>(passes);
+    options.lower_bound = args.flag("--lower-bound");
     options.progress = args.flag("--progress");
     const bool repair_first = args.flag("--repair");
     const std::optional<std::string> report_path = args.option("--report");
