@@ -52,10 +52,9 @@ constexpr double kLittleRoomFirst = 0.35, kCleanFirst = 0.3;
 // Local search places again at most this many split points at once: more (dense fans of
 // needles) cost time that grows with them and rarely pay (16, 32 and unlimited measured alike).
 constexpr size_t kLocalSearchPoints = 16;
-// The lower bound counts two intervals on an edge as meeting when they are less than this
-// fraction of its length apart: rounding and the locally-Delaunay tolerance cannot then make it
-// claim more than a conversion needs.
-constexpr double kBoundSlack = 1e-6;
+// The lower bound takes an edge for broken only where its margin is below minus the
+// locally-Delaunay tolerance by more than this (rounding of the margin, ~1e-15).
+constexpr double kBoundRounding = 1e-12;
 // An input edge with a face corner below this at one end (and none at the other) is a needle of
 // a fan: all its split points follow shells around that end (see split_distance).
 constexpr double kNeedleCorner = std::numbers::pi / 180;
@@ -221,8 +220,8 @@ private:
     // A side whose interval misses either bound must get a point too (an implication); of two
     // sides with disjoint intervals, one must (a clause). The bound: the edges that the
     // non-Delaunay folds imply, transitively, plus a matching of the clauses they leave open
-    // (each needs an edge of its own). Within 0.5 % of the exact optimum of these constraints
-    // on the corpus meshes (an integer program, solved aside).
+    // (each needs an edge of its own). Within 0.8 % of the exact optimum of these constraints
+    // on the corpus meshes (an integer program, solved aside; experiments/README.md).
     long long added_vertices_lower_bound() const {
         const int edges = mesh_.num_edges();
         std::vector<std::uint16_t> requirements(static_cast<size_t>(edges), 0);
@@ -275,28 +274,63 @@ private:
     }
     // What a point on physical edge e asks of its physical outer sides (see
     // added_vertices_lower_bound): bit i, side i must get a point; bit 4 + p, one of the p-th
-    // pair of sides (0-1, 0-2, 0-3, 1-2, 1-3, 2-3) must.
+    // pair of sides (0-1, 0-2, 0-3, 1-2, 1-3, 2-3) must. The keep intervals propose; margins
+    // decide, at one position between the two ranges that cannot meet: a side's angle at x
+    // shrinks as x moves away from the side's end on e, a half's apex angles grow with it, so a
+    // margin broken there stays broken on the whole range beyond.
     std::uint16_t side_requirements(int e) const {
         const Hinge k = hinge(e);
         const double l = dist(k.a, k.b);
-        const Interval halves = k.s < 0 && options_.boundary == BoundaryPolicy::free
-                                    ? Interval{0, l}
-                                    : delaunay_halves_interval(k, l);
+        const bool free_boundary = k.s < 0 && options_.boundary == BoundaryPolicy::free;
+        const Interval halves = free_boundary ? Interval{0, l} : delaunay_halves_interval(k, l);
         const OuterSides sides = outer_sides(k, l);
-        // NaN bounds (degenerate hinges) meet everything: no requirement.
-        auto meet = [slack = kBoundSlack * l](Interval p, Interval q) {
-            return !(p.lo > q.hi + slack) && !(q.lo > p.hi + slack);
+        const double broken = -options_.tolerance - kBoundRounding;
+        auto point = [&](double t) -> Eigen::Vector3d { return P_[k.a] + (t / l) * (P_[k.b] - P_[k.a]); };
+        // Whether side i (0 a-r, 1 b-r, 2 a-s, 3 b-s) is broken by the point at distance t from a.
+        auto breaks_side = [&](int i, double t) {
+            const Eigen::Vector3d x = point(t);
+            const int end = i % 2 == 0 ? k.a : k.b, apex = i < 2 ? k.r : k.s;
+            const double length = dist(end, apex), end_x = distance(P_[end], x), apex_x = distance(P_[apex], x);
+            const int across = mesh_.twin(sides.halfedge[i]);
+            if (across < 0) return boundary_margin(length, end_x, apex_x) < broken;  // strict: free keeps all
+            const int w = mesh_.opposite_vertex(across);
+            return delaunay_margin(length, end_x, apex_x, dist(end, w), dist(apex, w)) < broken;
+        };
+        // Whether the piece from a (or b) to the point at distance t from a is broken.
+        auto breaks_half = [&](bool from_a, double t) {
+            if (free_boundary) return false;
+            const Eigen::Vector3d x = point(t);
+            const int end = from_a ? k.a : k.b;
+            const double piece = from_a ? t : l - t, end_r = dist(end, k.r), x_r = distance(P_[k.r], x);
+            if (k.s < 0) return boundary_margin(piece, end_r, x_r) < broken;
+            return delaunay_margin(piece, end_r, x_r, dist(end, k.s), distance(P_[k.s], x)) < broken;
         };
         unsigned found = 0;
-        for (int i = 0; i < sides.count; ++i)
-            if ((sides.physical >> i & 1u) &&
-                (!meet(sides.keeps[i], {0, halves.hi}) || !meet(sides.keeps[i], {halves.lo, l})))
-                found |= 1u << i;
+        for (int i = 0; i < sides.count; ++i) {
+            if (!(sides.physical >> i & 1u)) continue;
+            const Interval keeps = sides.keeps[i];  // [D, l] for a side at a, [0, l - D] at b
+            // The first point lies within I0's bound from a, the last within the one from b.
+            bool implied;
+            if (i % 2 == 0) {
+                const double t = std::min(0.5 * (halves.hi + keeps.lo), l);
+                implied = keeps.lo > halves.hi && breaks_side(i, t) && (t >= l || breaks_half(true, t));
+            } else {
+                const double t = std::max(0.5 * (keeps.hi + halves.lo), 0.0);
+                implied = keeps.hi < halves.lo && breaks_side(i, t) && (t <= 0 || breaks_half(false, t));
+            }
+            if (implied) found |= 1u << i;
+        }
         for (int i = 0, pair = 4; i < sides.count; ++i)
-            for (int j = i + 1; j < sides.count; ++j, ++pair)
-                if ((sides.physical >> i & sides.physical >> j & 1u) && !((found >> i | found >> j) & 1u) &&
-                    !meet(sides.keeps[i], sides.keeps[j]))
-                    found |= 1u << pair;
+            for (int j = i + 1; j < sides.count; ++j, ++pair) {
+                // Sides at the same end both keep the far end: only opposite ends exclude each other.
+                if (!(sides.physical >> i & sides.physical >> j & 1u) || (found >> i | found >> j) & 1u ||
+                    i % 2 == j % 2)
+                    continue;
+                const int at_a = i % 2 == 0 ? i : j, at_b = i % 2 == 0 ? j : i;
+                if (!(sides.keeps[at_a].lo > sides.keeps[at_b].hi)) continue;
+                const double t = std::clamp(0.5 * (sides.keeps[at_a].lo + sides.keeps[at_b].hi), 0.0, l);
+                if (breaks_side(at_a, t) && breaks_side(at_b, t)) found |= 1u << pair;
+            }
         return static_cast<std::uint16_t>(found);
     }
 

@@ -3,7 +3,7 @@
 // The selector byte of fuzz_input.hpp also chooses the conversion method (bits 3-4: split,
 // hybrid, flip, split with a pass of local search) and the boundary policy (bit 5). Meshes are capped and convert gets a vertex budget, so that no single
 // input runs long. Bad meshes may only be refused with InvalidMeshError; results must satisfy
-// the identities every caller relies on.
+// the identities every caller relies on, and split's lower bound must hold.
 
 #include <algorithm>
 #include <cmath>
@@ -119,6 +119,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     options.local_search = (data[0] >> 3 & 3) == 3 ? 1 : 0;
     options.boundary = (data[0] & 32) != 0 ? sdmesh::BoundaryPolicy::free : sdmesh::BoundaryPolicy::strict;
     options.max_vertices = kVertexBudget;
+    options.lower_bound = true;
     try {
         // sdmesh check
         const sdmesh::EdgeTable edges = sdmesh::build_edge_table(mesh.F, mesh.num_vertices());
@@ -131,6 +132,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         require(result.mesh.num_vertices() <= kVertexBudget + kMaxVertices);
         require((result.mesh.V.topRows(mesh.num_vertices()).array() == mesh.V.array()).all());
         check_operators(result.mesh);
+        const sdmesh::ConversionReport& report = result.report;
+        if (options.method == sdmesh::ConvertMethod::split) {
+            require(report.added_vertices_lower_bound >= report.input_nonflat_non_delaunay_edges);
+            // A bound above what a conversion that moves nothing added would be wrong.
+            if (report.status == sdmesh::ConvertStatus::certified && report.vertices_inside_faces == 0)
+                require(report.added_vertices_lower_bound <= report.output_vertices - report.input_vertices);
+        }
         if (result.report.status == sdmesh::ConvertStatus::certified) {
             check_decimation(result.mesh, options.boundary);
             check_solvers(result.mesh);
