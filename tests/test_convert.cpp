@@ -51,6 +51,30 @@ TriangleMesh needle_cone(int n) {
     return cone;
 }
 
+// An open cylinder (radius 1) whose rims have `bottom` and `top` points, joined by one ring of
+// long faces in order around the axis, as CAD meshes tessellate cylinders: where the rims'
+// points do not line up, long diagonals are folds that are not locally Delaunay.
+TriangleMesh strip_cylinder(int bottom, int top, double height) {
+    auto bottom_angle = [&](int i) { return 2 * std::numbers::pi * i / bottom; };
+    auto top_angle = [&](int j) { return 2 * std::numbers::pi * (j + 0.37) / top; };
+    TriangleMesh mesh;
+    mesh.V.resize(bottom + top, 3);
+    for (int i = 0; i < bottom; ++i) mesh.V.row(i) << std::cos(bottom_angle(i)), std::sin(bottom_angle(i)), 0;
+    for (int j = 0; j < top; ++j) mesh.V.row(bottom + j) << std::cos(top_angle(j)), std::sin(top_angle(j)), height;
+    mesh.F.resize(bottom + top, 3);
+    // Each face takes the next point of the rim whose next point comes first around the axis.
+    for (int i = 0, j = 0, f = 0; f < bottom + top; ++f) {
+        if (j == top || (i < bottom && bottom_angle(i + 1) < 0.5 * (top_angle(j) + top_angle(j + 1)))) {
+            mesh.F.row(f) << i % bottom, (i + 1) % bottom, bottom + j % top;
+            ++i;
+        } else {
+            mesh.F.row(f) << i % bottom, bottom + (j + 1) % top, bottom + j % top;
+            ++j;
+        }
+    }
+    return mesh;
+}
+
 TriangleMesh adversarial(const std::string& name) {
     if (name == "skewed_grid") return bumpy(make_grid(12, 10, 1.0, 1.0, 2.5), 0.05);
     if (name == "needle_band") return bumpy(make_grid(40, 2, 4.0, 0.01), 0.3);  // sides 0.1 x 0.005
@@ -73,6 +97,7 @@ TriangleMesh adversarial(const std::string& name) {
         return grid;
     }
     if (name == "small_angles") return needle_cone(90);
+    if (name == "strip_cylinder") return strip_cylinder(40, 37, 2.0);
     if (name == "improper_idt") {
         // ALGORITHMS.md §7 (Ye et al. 2020, Fig. 2): its intrinsic Delaunay triangulation has a
         // self-loop, so no self-Delaunay mesh exists on these vertices alone.
@@ -178,7 +203,7 @@ TEST_P(ConvertSplit, MovesNothing) {
 std::vector<Case> cases() {
     std::vector<Case> all;
     for (const char* mesh : {"skewed_grid", "needle_band", "cap_band", "valence3", "cocircular", "small_angles",
-                             "improper_idt", "bunny"}) {
+                             "improper_idt", "strip_cylinder", "bunny"}) {
         all.push_back({mesh, {}, "split_interval"});
         all.push_back({mesh, {.split_rule = SplitRule::shell}, "split_shell"});
         for (int degrees : {5, 10, 20})
@@ -364,6 +389,22 @@ TEST(ConvertMethods, LowerBoundCountsTheSideThatMustBreak) {
     EXPECT_EQ(convert(cap, {.boundary = BoundaryPolicy::free}).report.added_vertices_lower_bound, -1);  // not asked
     EXPECT_EQ(convert(cap, {.method = ConvertMethod::hybrid, .lower_bound = true}).report.added_vertices_lower_bound,
               -1);  // flips move apexes: no bound
+}
+
+// A ring of long faces around a cylinder (rims of 40 and 37 points) is made Delaunay by one
+// ring of points at one height, one on each long edge. The split of a non-Delaunay diagonal
+// carries its cut on along the strip (split_across_strips); placed one by one, the points took
+// 430 vertices at about 400 heights.
+TEST(ConvertMethods, AStripOfLongFacesTakesOneRingOfPoints) {
+    const TriangleMesh strip = strip_cylinder(40, 37, 2.0);
+    const ConversionResult result = convert(strip, {.lower_bound = true});
+    const ConversionReport& r = result.report;
+    ASSERT_EQ(r.status, ConvertStatus::certified);
+    EXPECT_EQ(r.input_nonflat_non_delaunay_edges, 19);
+    EXPECT_EQ(result.mesh.num_vertices() - strip.num_vertices(), 40 + 37);
+    for (int v = strip.num_vertices(); v < result.mesh.num_vertices(); ++v)
+        EXPECT_NEAR(result.mesh.V(v, 2), result.mesh.V(strip.num_vertices(), 2), 1e-12) << "vertex " << v;
+    EXPECT_LE(r.added_vertices_lower_bound, 40 + 37);
 }
 
 // The needles of a fan get their split points in rings around the apex. Before, with 180
