@@ -355,7 +355,7 @@ private:
     // (CAD meshes are full of them) is made Delaunay by one ring of points at one height, but
     // points placed one by one at heights of their own broke their neighbours ever further along
     // the strip (rims of 400 and 397 points, 199 non-Delaunay edges: 67,117 vertices added, now
-    // 797; couplingdown 8.18 -> 4.50 per non-Delaunay edge, the other corpus meshes within 0.5 %).
+    // 797; couplingdown 8.18 -> 4.50 per non-Delaunay edge, the other corpus meshes within 0.6 %).
     void split_across_strips(int first, ConversionReport& report) {
         struct Cut {
             int edge;

@@ -6,9 +6,11 @@
 //            the surface where it is not flat; edges that cannot be flipped (the new edge exists
 //            already, or the unfolded hinge is not convex) stay and are counted.
 //  - split:  geometry-preserving. Non-Delaunay edges are split at points on them; flips happen
-//            only where the two faces are coplanar, so the surface does not move at all. At the
-//            end, split points that later ones made unnecessary are removed again, until no
-//            point can go alone.
+//            only where the two faces are coplanar, so the surface does not move at all. A split
+//            in a strip of thin faces carries its cut on across the strip, at the same fraction
+//            of each long edge (a loop cut), so that a tessellated cylinder takes one ring of
+//            points. At the end, split points that later ones made unnecessary are removed
+//            again, until no point can go alone.
 //  - hybrid: edges within max_dihedral_deg of flat are flipped, the others split: fewer new
 //            vertices for a bounded change of the surface (reported as a Hausdorff distance).
 //
