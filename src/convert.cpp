@@ -242,41 +242,24 @@ private:
         while (!reached.empty()) {
             const int e = reached.back();
             reached.pop_back();
-            const OuterSideEdges sides = outer_side_edges(e);
+            const OuterHalfedges sides = outer_halfedges(hinge(e));
             for (int i = 0; i < sides.count; ++i)
-                if ((requirements[e] >> i & 1u) && !gets_point[sides.edge[i]])
-                    gets_point[sides.edge[i]] = 1, reached.push_back(sides.edge[i]), ++bound;
+                if (const int side = mesh_.edge(sides.h[i]); (requirements[e] >> i & 1u) && !gets_point[side])
+                    gets_point[side] = 1, reached.push_back(side), ++bound;
         }
         std::vector<char> matched(static_cast<size_t>(edges), 0);
         for (int e = 0; e < edges; ++e) {
             if (!gets_point[e] || requirements[e] < 16) continue;
-            const OuterSideEdges sides = outer_side_edges(e);
+            const OuterHalfedges sides = outer_halfedges(hinge(e));
             for (int i = 0, pair = 4; i < sides.count; ++i)
                 for (int j = i + 1; j < sides.count; ++j, ++pair) {
-                    const int u = sides.edge[i], w = sides.edge[j];
+                    const int u = mesh_.edge(sides.h[i]), w = mesh_.edge(sides.h[j]);
                     if ((requirements[e] >> pair & 1u) && !gets_point[u] && !gets_point[w] && !matched[u] &&
                         !matched[w])
                         matched[u] = matched[w] = 1, ++bound;
                 }
         }
         return bound;
-    }
-    // The edges of the outer sides of physical edge e, in the order of outer_sides().
-    struct OuterSideEdges {
-        std::array<int, 4> edge;
-        int count = 0;
-    };
-    OuterSideEdges outer_side_edges(int e) const {
-        OuterSideEdges sides;
-        const int h = mesh_.halfedge(e);
-        for (const int g : {h, mesh_.twin(h)}) {
-            if (g < 0) continue;
-            const int from_a = g == h ? HalfedgeMesh::prev(g) : HalfedgeMesh::next(g);
-            const int from_b = g == h ? HalfedgeMesh::next(g) : HalfedgeMesh::prev(g);
-            sides.edge[sides.count++] = mesh_.edge(from_a);
-            sides.edge[sides.count++] = mesh_.edge(from_b);
-        }
-        return sides;
     }
     // What a point on physical edge e asks of its physical outer sides (see
     // added_vertices_lower_bound): bit i, side i must get a point; bit 4 + p, one of the p-th
@@ -368,19 +351,16 @@ private:
             if (cut.at >= 0 && is_delaunay(cut.edge)) continue;
             const Hinge k = hinge(cut.edge);
             const double l = dist(k.a, k.b);
+            const OuterHalfedges outer = outer_halfedges(k);
             std::array<StripSide, 4> sides;
-            int count = 0;
-            for (const int h : {k.h, mesh_.twin(k.h)}) {
-                if (h < 0) continue;
-                for (const int g : {HalfedgeMesh::next(h), HalfedgeMesh::prev(h)}) {
-                    const int u = mesh_.tail(g), w = mesh_.head(g);
-                    const int shared = u == k.a || u == k.b ? u : w;
-                    sides[count++] = {mesh_.edge(g), shared, shared == u ? w : u, shared == k.a ? k.b : k.a};
-                }
+            for (int i = 0; i < outer.count; ++i) {
+                const int g = outer.h[i], shared = i % 2 == 0 ? k.a : k.b;
+                sides[i] = {mesh_.edge(g), shared, mesh_.tail(g) == shared ? mesh_.head(g) : mesh_.tail(g),
+                            shared == k.a ? k.b : k.a};
             }
             split(cut.edge, cut.at >= 0 ? cut.at : split_distance(k, l));
             ++report.splits;
-            for (int i = 0; i < count; ++i)
+            for (int i = 0; i < outer.count; ++i)
                 if (const std::optional<double> at = strip_cut(sides[i]); at) cuts.push_back({sides[i].edge, *at});
         }
     }
@@ -469,23 +449,21 @@ private:
             edge.e = e, edge.k = k, edge.l = dist(k.a, k.b);
             edge.room = away_from_ends(delaunay_halves_interval(k, edge.l), edge.l, kEndClearance);
         }
-        for (Edge& edge : group)  // an edge without partners gains nothing here
-            for (const int h : {edge.k.h, mesh_.twin(edge.k.h)}) {
-                if (h < 0) continue;
-                const int from_a = h == edge.k.h ? HalfedgeMesh::prev(h) : HalfedgeMesh::next(h);
-                const int from_b = h == edge.k.h ? HalfedgeMesh::next(h) : HalfedgeMesh::prev(h);
-                for (Side side :
-                     {Side{from_a, edge.k.a, edge.k.b, false, -1}, Side{from_b, edge.k.b, edge.k.a, true, -1}}) {
-                    if (const int across = mesh_.twin(side.h); across >= 0)
-                        for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)})
-                            if (const auto it = std::lower_bound(group.begin(), group.end(), mesh_.edge(g),
-                                                                 [](const Edge& x, int e) { return x.e < e; });
-                                it != group.end() && it->e == mesh_.edge(g))
-                                side.partner = static_cast<int>(it - group.begin());
-                    edge.sides[edge.count++] = side;
-                    edge.left_out = edge.left_out && side.partner < 0;
-                }
+        for (Edge& edge : group) {  // an edge without partners gains nothing here
+            const OuterHalfedges outer = outer_halfedges(edge.k);
+            for (int i = 0; i < outer.count; ++i) {
+                const bool from_b = i % 2 == 1;
+                Side side{outer.h[i], from_b ? edge.k.b : edge.k.a, from_b ? edge.k.a : edge.k.b, from_b, -1};
+                if (const int across = mesh_.twin(side.h); across >= 0)
+                    for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)})
+                        if (const auto it = std::lower_bound(group.begin(), group.end(), mesh_.edge(g),
+                                                             [](const Edge& x, int e) { return x.e < e; });
+                            it != group.end() && it->e == mesh_.edge(g))
+                            side.partner = static_cast<int>(it - group.begin());
+                edge.sides[edge.count++] = side;
+                edge.left_out = edge.left_out && side.partner < 0;
             }
+        }
         auto point_at = [&](const Edge& edge, double t) -> Eigen::Vector3d {
             return P_[edge.k.a] + (t / edge.l) * (P_[edge.k.b] - P_[edge.k.a]);
         };
@@ -1206,15 +1184,29 @@ private:
 
     OuterSides outer_sides(const Hinge& k, double l, const Across* future = nullptr) const {
         OuterSides sides;
-        auto add = [&](Interval keeps, int side) { sides.add(keeps, is_flat(mesh_.edge(side), flat_angle_), side); };
-        for (const int h : {k.h, mesh_.twin(k.h)}) {
-            if (h < 0) continue;
-            const int from_a = h == k.h ? HalfedgeMesh::prev(h) : HalfedgeMesh::next(h);  // side a-apex
-            const int from_b = h == k.h ? HalfedgeMesh::next(h) : HalfedgeMesh::prev(h);  // side b-apex
-            add(outer_side_interval(from_a, k.a, k.b, l, false, future), from_a);
-            add(outer_side_interval(from_b, k.b, k.a, l, true, future), from_b);
+        const OuterHalfedges outer = outer_halfedges(k);
+        for (int i = 0; i < outer.count; ++i) {
+            const int side = outer.h[i];
+            const bool from_b = i % 2 == 1;
+            sides.add(outer_side_interval(side, from_b ? k.b : k.a, from_b ? k.a : k.b, l, from_b, future),
+                      is_flat(mesh_.edge(side), flat_angle_), side);
         }
         return sides;
+    }
+    // The outer sides of hinge k as halfedges of its faces, in the order a-r, b-r, a-s, b-s
+    // (the first two only on the boundary).
+    struct OuterHalfedges {
+        std::array<int, 4> h;
+        int count = 0;
+    };
+    OuterHalfedges outer_halfedges(const Hinge& k) const {
+        OuterHalfedges outer;
+        for (const int h : {k.h, mesh_.twin(k.h)}) {
+            if (h < 0) continue;
+            outer.h[outer.count++] = h == k.h ? HalfedgeMesh::prev(h) : HalfedgeMesh::next(h);  // side a-apex
+            outer.h[outer.count++] = h == k.h ? HalfedgeMesh::next(h) : HalfedgeMesh::prev(h);  // side b-apex
+        }
+        return outer;
     }
 
     // f(position) for the first `count` positions in `range` (distances from k.a) whose parameter
