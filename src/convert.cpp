@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <deque>
 #include <limits>
+#include <numeric>
 #include <numbers>
 #include <optional>
 #include <queue>
@@ -49,6 +50,9 @@ constexpr int kCascadeDyadics = 8;
 // keep every physical outer side (measured: 0.35-0.45 best for the first, 0.1 and 0.25 0.1-0.7 %
 // more vertices, 0.5 and more cheese 12.1 -> 14.4; 0.15-0.5 alike for the second).
 constexpr double kLittleRoomFirst = 0.35, kCleanFirst = 0.3;
+// A trial of a split position follows the cascade it starts for this many splits (8 and 40
+// measured: about as good; 40 worse on couplingdown) and at most this many flips.
+constexpr long long kTrialSplits = 16, kTrialFlips = 1000;
 // Local search places again at most this many split points at once: more (dense fans of
 // needles) cost time that grows with them and rarely pay (16, 32 and unlimited measured alike).
 constexpr size_t kLocalSearchPoints = 16;
@@ -207,7 +211,7 @@ private:
                 break;
             } else {
                 if (input_edge_[e] < 0) ++report.vertices_inside_faces;
-                split_across_strips(e, report);
+                split_across_strips(e, report, !trial_);
             }
             if (options_.progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
                 last_progress = Clock::now();
@@ -339,7 +343,9 @@ private:
     // points placed one by one at heights of their own broke their neighbours ever further along
     // the strip (rims of 400 and 397 points, 199 non-Delaunay edges: 67,117 vertices added, now
     // 797; couplingdown 8.18 -> 4.50 per non-Delaunay edge, the other corpus meshes within 0.6 %).
-    void split_across_strips(int first, ConversionReport& report) {
+    // With `look_ahead`, a split that must break a physical side is placed where a trial of the
+    // cascade it starts costs the fewest splits (see fewest_splits_after); not inside a trial.
+    void split_across_strips(int first, ConversionReport& report, bool look_ahead) {
         struct Cut {
             int edge;
             double at;  // distance from the edge's hinge's a; < 0: where split_distance says
@@ -358,12 +364,62 @@ private:
                 sides[i] = {mesh_.edge(g), shared, mesh_.tail(g) == shared ? mesh_.head(g) : mesh_.tail(g),
                             shared == k.a ? k.b : k.a};
             }
-            split(cut.edge, cut.at >= 0 ? cut.at : split_distance(k, l));
+            double position = cut.at;
+            if (position < 0) {
+                const bool trials = look_ahead && options_.cascade_trials > 1;
+                position = split_distance(k, l, trials ? &alternatives_ : nullptr);
+                if (trials && alternatives_.size() > 1) position = fewest_splits_after(cut.edge, alternatives_);
+            }
+            split(cut.edge, position);
             ++report.splits;
             for (int i = 0; i < outer.count; ++i)
                 if (const std::optional<double> at = strip_cut(sides[i]); at) cuts.push_back({sides[i].edge, *at});
         }
     }
+    // Of the positions (distances from the hinge's a) on e, the one whose split starts the
+    // cheapest cascade; the first of equals. Each is tried and taken back (splits_after). The
+    // scores of least_cascading see one step ahead; a trial sees how the broken sides' own
+    // splits go. Measured against the first position alone: koala 2.41 -> 2.25 vertices added
+    // per non-Delaunay edge, elk 2.33 -> 2.18, mushroom 2.39 -> 2.21, boot 2.11 -> 2.01,
+    // couplingdown 4.50 -> 3.78, nefertiti 1.70 -> 1.66, cheese 12.15 -> 11.82.
+    double fewest_splits_after(int e, const std::vector<double>& positions) {
+        double chosen = positions.front();
+        long long fewest = std::numeric_limits<long long>::max();
+        for (const double t : positions) {
+            if (const long long cost = splits_after(e, t, fewest); cost < fewest) fewest = cost, chosen = t;
+            if (fewest <= 2) break;  // itself and one broken side: what nearly every position costs
+        }
+        return chosen;
+    }
+    // The splits that splitting e at distance t from its hinge's a costs: itself and what the
+    // loop then splits, followed for kTrialSplits splits, plus the physical edges still queued
+    // then. The other queued edges wait outside the trial, which is taken back.
+    long long splits_after(int e, double t, long long at_most) {
+        std::vector<int> flat_waiting = std::move(flat_queue_);
+        auto physical_waiting = std::move(physical_queue_);
+        flat_queue_.clear();
+        physical_queue_ = {};
+        begin_trial();
+        ConversionReport trial;
+        split(e, t);
+        for (long long flips = 0; trial.splits < kTrialSplits && 1 + trial.splits < at_most && flips < kTrialFlips;) {
+            const int g = pop();
+            if (g < 0 || mesh_.num_vertices() >= vertex_budget_) break;
+            if (mesh_.is_removed_edge(g) || is_delaunay(g)) continue;
+            if (is_flat(g, flat_angle_) && is_flippable(g)) {
+                flip(g);
+                ++flips;
+            } else {
+                split_across_strips(g, trial, false);
+            }
+        }
+        const long long cost = 1 + trial.splits + static_cast<long long>(physical_queue_.size());
+        rollback();
+        flat_queue_ = std::move(flat_waiting);
+        physical_queue_ = std::move(physical_waiting);
+        return cost;
+    }
+
     // An outer side c-d of a split edge c-e, before the split.
     struct StripSide {
         int edge, shared, far, split_end;  // c, d, e
@@ -961,7 +1017,11 @@ private:
     };
 
     // Distance from a at which to split the edge a-b (length l) of hinge k.
-    double split_distance(const Hinge& k, double l) const {
+    // With `alternatives`, where every position breaks a physical side, up to
+    // options_.cascade_trials positions worth a trial go there, the chosen one first; it is left
+    // empty otherwise.
+    double split_distance(const Hinge& k, double l, std::vector<double>* alternatives = nullptr) const {
+        if (alternatives) alternatives->clear();
         const int on_input_edge = input_edge_[mesh_.edge(k.h)];
         // The needles of a fan (a cone's, say) meet at their apex at tiny angles, and their other
         // ends lie anywhere: split points at the same distances from the apex, ignoring I0, make
@@ -996,7 +1056,8 @@ private:
         }
         if (near_input_vertex && !best.keeps_physical) return shell_distance(k, l);
         if (best.weight < 0) return 0.5 * l;
-        if (!best.keeps_physical) return least_cascading(k, l, sides, away_from_ends(kEndClearance), on_input_edge);
+        if (!best.keeps_physical)
+            return least_cascading(k, l, sides, away_from_ends(kEndClearance), on_input_edge, alternatives);
         return sparing_neighbours(k, l, best.range, on_input_edge);
     }
 
@@ -1006,10 +1067,13 @@ private:
     // fractions of its range, the one with the most weight kept less the broken physical sides
     // whose split would cascade and the clean neighbours it spoils; the first of equals.
     // Measured against the usual position of the choice of most weight: nefertiti 1.88 -> 1.76
-    // vertices added per non-Delaunay edge, boot 2.42 -> 2.22, koala 2.78 -> 2.54.
-    double least_cascading(const Hinge& k, double l, const OuterSides& sides, Interval within, int on_input_edge) const {
+    // vertices added per non-Delaunay edge, boot 2.42 -> 2.22, koala 2.78 -> 2.54. With
+    // `alternatives`, the candidates to try as well (see split_distance).
+    double least_cascading(const Hinge& k, double l, const OuterSides& sides, Interval within, int on_input_edge,
+                           std::vector<double>* alternatives) const {
         // The candidates, in order, without repeats: up to 16 choices of the 4 sides.
-        std::array<double, 16 * (1 + kCascadeDyadics)> positions;
+        constexpr int kMost = 16 * (1 + kCascadeDyadics);
+        std::array<double, kMost> positions;
         int candidates = 0;
         auto candidate = [&](double t) {
             if (std::find(positions.begin(), positions.begin() + candidates, t) == positions.begin() + candidates)
@@ -1020,12 +1084,14 @@ private:
             sides.for_each_choice(within, [&](Interval range, unsigned) {
                 for_each_dyadic(k, on_input_edge, range, kCascadeDyadics, candidate);
             });
-        double chosen = 0.5 * l;
-        int best_score = std::numeric_limits<int>::min();
+        // scores[c]: complete only while candidate c could still win; kept[c]: its first term.
+        std::array<int, kMost> scores, kept;
+        int best = -1;
         const CleanNeighbours neighbours = clean_neighbours(k);
         const unsigned shared = sides_broken_anyway(sides);
         for (int c = 0; c < candidates; ++c) {
             const double t = positions[c];
+            const int best_score = best < 0 ? std::numeric_limits<int>::min() : scores[best];
             int score = 0;
             unsigned broken = 0;  // physical sides
             for (int i = 0; i < sides.count; ++i) {
@@ -1034,12 +1100,25 @@ private:
                 else if (sides.physical >> i & 1u)
                     broken |= 1u << i;
             }
+            kept[c] = score;
             for (int i = 0; i < sides.count && score > best_score; ++i)
                 if ((broken >> i & 1u) && !side_splits_cleanly(k, l, t, i, sides.halfedge[i])) --score;
             if (score > best_score) score -= spoiled(k, l, t, neighbours);
-            if (score > best_score) best_score = score, chosen = t;
+            scores[c] = score;
+            if (score > best_score) best = c;
         }
-        return chosen;
+        if (best < 0) return 0.5 * l;
+        if (alternatives) {
+            // The winner, then the others by the weight they keep (ranking them by their
+            // complete scores instead costs their look-ahead and measured alike).
+            std::array<int, kMost> order;
+            std::iota(order.begin(), order.begin() + candidates, 0);
+            std::stable_sort(order.begin(), order.begin() + candidates, [&](int x, int y) { return kept[x] > kept[y]; });
+            alternatives->push_back(positions[best]);
+            for (int i = 0; i < candidates && static_cast<int>(alternatives->size()) < options_.cascade_trials; ++i)
+                if (order[i] != best) alternatives->push_back(positions[order[i]]);
+        }
+        return positions[best];
     }
 
     // The physical outer sides (bit i: side i) across which waits a physical non-Delaunay edge
@@ -1454,6 +1533,7 @@ private:
         std::vector<std::pair<int, std::array<int, 2>>> pieces;
     };
     std::optional<Trial> trial_;
+    std::vector<double> alternatives_;  // split_distance's, for split_across_strips
     std::vector<int> flat_queue_;
     std::priority_queue<std::pair<double, int>> physical_queue_;
 };
@@ -1467,6 +1547,7 @@ void check_options(const ConvertOptions& o) {
     if (o.max_vertices < 0) throw InvalidArgumentError("convert: max_vertices must be >= 0");
     if (o.max_flips < 0) throw InvalidArgumentError("convert: max_flips must be >= 0");
     if (o.local_search < 0) throw InvalidArgumentError("convert: local_search must be >= 0");
+    if (o.cascade_trials < 0) throw InvalidArgumentError("convert: cascade_trials must be >= 0");
 }
 
 }  // namespace

@@ -51,16 +51,17 @@ TEST_F(Cli, CheckJsonHasTheDocumentedKeys) {
 }
 
 TEST_F(Cli, ConvertReportHasTheDocumentedKeys) {
-    const CliRun r = run_cli("convert " + kBunny + " " + path("bunny_sd.obj") + " --lower-bound --report " +
-                             path("report.json"));
+    const CliRun r = run_cli("convert " + kBunny + " " + path("bunny_sd.obj") +
+                             " --lower-bound --cascade-trials 2 --report " + path("report.json"));
     EXPECT_EQ(r.code, 0) << r.err;
     for (const char* key : {"input_vertices", "output_vertices", "input_non_delaunay_edges",
                             "input_nonflat_non_delaunay_edges", "flips", "splits", "unflippable_edges",
-                            "removed_points", "added_vertices_lower_bound", "status", "seconds", "hausdorff_rel",
-                            "certificate"})
+                            "removed_points", "added_vertices_lower_bound", "cascade_trials", "status", "seconds",
+                            "hausdorff_rel", "certificate"})
         EXPECT_NE(r.out.find(std::string(1, '"').append(key).append("\": ")), std::string::npos) << key;
     EXPECT_NE(r.out.find("\"status\": \"certified\""), std::string::npos);
     EXPECT_EQ(r.out.find("\"added_vertices_lower_bound\": -1"), std::string::npos);  // asked for: computed
+    EXPECT_NE(r.out.find("\"cascade_trials\": 2"), std::string::npos);
     std::ifstream report(path("report.json"));
     EXPECT_EQ(std::string(std::istreambuf_iterator<char>(report), {}), r.out);
     EXPECT_EQ(run_cli("check " + path("bunny_sd.obj")).code, 0);
@@ -137,6 +138,7 @@ TEST_F(Cli, ErrorsHaveDistinctExitCodesAndOneLine) {
     expect_error("check " + kBunny + " --boundary sideways", 2, "--boundary");
     expect_error("check", 2, "usage");
     expect_error("check " + kBunny + " --frobnicate", 2, "--frobnicate");
+    expect_error("convert " + kBunny + " " + path("out.obj") + " --cascade-trials -1", 2, "--cascade-trials");
     expect_error("transmogrify " + kBunny, 2, "transmogrify");
     // Missing required options, for every command that has them.
     expect_error("operators " + kBunny, 2, "--out DIR is required");

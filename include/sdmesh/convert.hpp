@@ -69,6 +69,12 @@ struct ConvertOptions {
     /// flips terminate in exact arithmetic, but on nearly degenerate input (coordinates spanning
     /// many orders of magnitude) rounding can make the LD verdicts cycle.
     long long max_flips = 0;
+    /// split (and hybrid's splits): where every position for a split point breaks a physical
+    /// side, so that the split costs more vertices, up to this many positions are tried: each
+    /// split is made, the cascade it starts is followed for 16 splits and taken back, and the
+    /// cheapest is kept (see experiments/README.md for what more trials save and cost).
+    /// 0 or 1 = none: the first position by the sides it keeps and what they look like next.
+    int cascade_trials = 4;
     /// split: passes of local search after the conversion. Around each split point, the split
     /// points of its two input faces are placed again with their neighbours known, and the
     /// result is kept where it has fewer vertices (see experiments/README.md for what it saves

@@ -167,7 +167,8 @@ py::dict check_py(py::handle V, py::handle F, const std::string& boundary, doubl
 
 py::tuple convert_py(py::handle V, py::handle F, const std::string& method, const std::string& split_rule,
                      double max_dihedral_deg, double coplanar_tolerance, const std::string& boundary, double tolerance,
-                     long long max_vertices, int local_search, bool progress, bool measure_hausdorff) {
+                     long long max_vertices, int cascade_trials, int local_search, bool progress,
+                     bool measure_hausdorff) {
     const TriangleMesh mesh = mesh_from_arrays(V, F);
     const ConvertOptions options{
         .method = parse_name(method, "method", {ConvertMethod::split, ConvertMethod::hybrid, ConvertMethod::flip}),
@@ -177,6 +178,7 @@ py::tuple convert_py(py::handle V, py::handle F, const std::string& method, cons
         .boundary = parse_boundary(boundary),
         .tolerance = tolerance,
         .max_vertices = max_vertices,
+        .cascade_trials = cascade_trials,
         .local_search = local_search,
         .progress = progress,
         .measure_hausdorff = measure_hausdorff,
@@ -413,14 +415,15 @@ report["self_delaunay"] is the verdict. Raises InvalidMeshError (index out of ra
           arg("max_dihedral_deg") = convert_defaults.max_dihedral_deg,
           arg("coplanar_tolerance") = convert_defaults.coplanar_tolerance, arg("boundary") = strict,
           arg("tolerance") = convert_defaults.tolerance, arg("max_vertices") = convert_defaults.max_vertices,
-          arg("local_search") = convert_defaults.local_search,
+          arg("cascade_trials") = convert_defaults.cascade_trials, arg("local_search") = convert_defaults.local_search,
           arg("progress") = convert_defaults.progress, arg("measure_hausdorff") = convert_defaults.measure_hausdorff,
           R"(convert(V, F, *, method="split", split_rule="interval", max_dihedral_deg=10.0,
         coplanar_tolerance=1e-10, boundary="strict", tolerance=1e-10, max_vertices=0,
-        local_search=0, progress=False, measure_hausdorff=True) -> (V, F, report)
+        cascade_trials=4, local_search=0, progress=False, measure_hausdorff=True) -> (V, F, report)
 
 Converts a manifold mesh into a self-Delaunay mesh (method "split", "hybrid" or "flip"; see
-sdmesh/convert.hpp). local_search: passes of local search after a split conversion, for fewer
+sdmesh/convert.hpp). cascade_trials: split positions tried where a split must break a side
+(0: none). local_search: passes of local search after a split conversion, for fewer
 vertices at more time (0: none). New vertices come after the input's. report: the keys of `sdmesh convert`'s
 JSON except input/output; report["status"] is "certified", "budget_exhausted" or "not_certified".
 Raises InvalidMeshError (run a repair first), InvalidArgumentError.)");

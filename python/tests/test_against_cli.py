@@ -198,3 +198,14 @@ def test_heat_equals_the_cli(cli, tmp_path, converted_bunny):
     expected = read_binary_ply_fields(tmp_path / "u.ply", ["u"])["u"]
     u = sdmesh.heat(V, F, u0, 1e-3, steps=3, mass="galerkin")
     assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
+
+def test_cascade_trials_equal_the_cli(cli, tmp_path, bunny_path, bunny):
+    done = cli("convert", bunny_path, tmp_path / "out.obj", "--cascade-trials", "0")
+    expected = cli_json(done)
+    del expected["input"], expected["output"]
+    V, F, report = sdmesh.convert(*bunny, cascade_trials=0)
+    assert without_timings(report) == without_timings(expected)
+    assert report["cascade_trials"] == 0
+    V_cli, F_cli = sdmesh.read_mesh(tmp_path / "out.obj")
+    np.testing.assert_array_equal(V, V_cli)
+    np.testing.assert_array_equal(F, F_cli)

@@ -17,7 +17,8 @@ namespace {
 
 constexpr const char* kConvertUsage =
     "sdmesh convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell] [--max-dihedral DEG] "
-    "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--local-search PASSES] [--lower-bound] "
+    "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--cascade-trials N] [--local-search PASSES] "
+    "[--lower-bound] "
     "[--repair] [--report FILE.json] [--progress]";
 
 }  // namespace
@@ -37,6 +38,10 @@ int run_convert(Args& args) {
     options.max_dihedral_deg = args.number("--max-dihedral").value_or(options.max_dihedral_deg);
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);
     options.max_vertices = static_cast<long long>(args.number("--max-vertices").value_or(0));
+    const double trials = args.number("--cascade-trials").value_or(options.cascade_trials);
+    if (!(trials >= 0 && trials <= 1000 && trials == std::floor(trials)))
+        throw UsageError("convert: --cascade-trials expects a whole number from 0 to 1000");
+    options.cascade_trials = static_cast<int>(trials);
     const double passes = args.number("--local-search").value_or(0);
     if (!(passes >= 0 && passes <= 100 && passes == std::floor(passes)))
         throw UsageError("convert: --local-search expects a whole number of passes from 0 to 100");
