@@ -42,6 +42,8 @@ const std::vector<Config>& configs() {
         {"split-interval",
          {.method = ConvertMethod::split, .split_rule = SplitRule::interval, .lower_bound = true},
          true},
+        {"split-interval-no-trials",
+         {.method = ConvertMethod::split, .split_rule = SplitRule::interval, .cascade_trials = 0}, false},
         {"split-interval-local-search",
          {.method = ConvertMethod::split, .split_rule = SplitRule::interval, .local_search = 1}, false},
         {"split-shell", {.method = ConvertMethod::split, .split_rule = SplitRule::shell}, false},
@@ -89,18 +91,19 @@ std::string csv_field(std::string_view text) {
 }
 
 constexpr const char* kHeader =
-    "mesh,faces,method,split_rule,max_dihedral_deg,local_search,input_vertices,output_vertices,added_vertices,"
+    "mesh,faces,method,split_rule,max_dihedral_deg,local_search,cascade_trials,input_vertices,output_vertices,added_vertices,"
     "input_non_delaunay_edges,input_nonflat_non_delaunay_edges,vertex_efficiency,flips,splits,status,"
     "seconds,hausdorff_rel,output_non_delaunay_edges,output_negative_dual_cells,efficiency_lower_bound\n";
 
-// The columns that name the row: mesh, faces, method, split_rule, max_dihedral_deg, local_search.
+// The columns that name the row: mesh, faces, method, split_rule, max_dihedral_deg, local_search,
+// cascade_trials.
 std::string row_key(const std::string& mesh, int faces, const Config& config) {
     const bool hybrid = config.options.method == sdmesh::ConvertMethod::hybrid;
     std::ostringstream row;
     row << csv_field(mesh) << ',' << faces << ',' << sdmesh::to_string(config.options.method) << ','
         << sdmesh::to_string(config.options.split_rule) << ',';
     if (hybrid) row << config.options.max_dihedral_deg;  // split ignores the dihedral bound
-    row << ',' << config.options.local_search;
+    row << ',' << config.options.local_search << ',' << config.options.cascade_trials;
     return row.str();
 }
 

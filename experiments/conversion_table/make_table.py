@@ -16,11 +16,12 @@ from pathlib import Path
 
 
 def configuration(row):
-    """A configuration's name, e.g. 'split-interval', 'split-interval-local-search' or 'hybrid-10'."""
+    """A configuration's name, e.g. 'split-interval', 'split-interval-no-trials' or 'hybrid-10'."""
     if row["method"] == "hybrid":
         return f"hybrid-{row['max_dihedral_deg']}"
     search = "-local-search" if row.get("local_search", "0") not in ("", "0") else ""
-    return f"{row['method']}-{row['split_rule']}{search}"
+    trials = "-no-trials" if row.get("cascade_trials") == "0" else ""
+    return f"{row['method']}-{row['split_rule']}{search}{trials}"
 
 
 def efficiency(row):

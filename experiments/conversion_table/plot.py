@@ -36,7 +36,8 @@ def efficiency_figure(rows, path):
     figure, axes = plotting.plt.subplots(figsize=(8, 4.2))
     for offset, ((rule, passes), (label, colour)) in zip((-0.2, 0.0, 0.2), SPLIT_SERIES.items()):
         by_mesh = {r["mesh"]: float(r["vertex_efficiency"]) for r in split
-                   if r["split_rule"] == rule and r.get("local_search", "0") == passes}
+                   if r["split_rule"] == rule and r.get("local_search", "0") == passes
+                   and r.get("cascade_trials") != "0"}
         x = [i + offset for i, m in enumerate(meshes) if m in by_mesh]
         y = [by_mesh[m] for m in meshes if m in by_mesh]
         if y:
@@ -60,7 +61,8 @@ def efficiency_figure(rows, path):
 def hybrid_figure(rows, path):
     hybrid = [r for r in rows if r["method"] == "hybrid"]
     split = {r["mesh"]: int(r["added_vertices"]) for r in rows
-             if r["method"] == "split" and r["split_rule"] == "interval" and r.get("local_search", "0") == "0"}
+             if r["method"] == "split" and r["split_rule"] == "interval" and r.get("local_search", "0") == "0"
+             and r.get("cascade_trials") != "0"}
     figure, axes = plotting.plt.subplots(figsize=(6.5, 4.5))
     for bound, colour in HYBRID_BOUNDS.items():
         chosen = [r for r in hybrid if r["max_dihedral_deg"] == bound and split.get(r["mesh"])]
