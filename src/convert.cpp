@@ -53,6 +53,10 @@ constexpr double kLittleRoomFirst = 0.35, kCleanFirst = 0.3;
 // A trial of a split position follows the cascade it starts for this many splits (8 and 40
 // measured: about as good; 40 worse on couplingdown) and at most this many flips.
 constexpr long long kTrialSplits = 16, kTrialFlips = 1000;
+// No more trials are made once their splits outnumber the real ones this many times (plus an
+// eighth of the input's vertices). The corpus meshes take 0.8-7 times; trials that each ran a
+// ring of strip cuts around a cylinder took 19 times (2 cut koala's and elk's gains by half).
+constexpr long long kTrialWork = 8;
 // Local search places again at most this many split points at once: more (dense fans of
 // needles) cost time that grows with them and rarely pay (16, 32 and unlimited measured alike).
 constexpr size_t kLocalSearchPoints = 16;
@@ -345,16 +349,18 @@ private:
     // 797; couplingdown 8.18 -> 4.50 per non-Delaunay edge, the other corpus meshes within 0.6 %).
     // With `look_ahead`, a split that must break a physical side is placed where a trial of the
     // cascade it starts costs the fewest splits (see fewest_splits_after); not inside a trial.
-    void split_across_strips(int first, ConversionReport& report, bool look_ahead) {
+    // `at`: the first split's distance from its hinge's a; < 0: where split_distance says.
+    void split_across_strips(int first, ConversionReport& report, bool look_ahead, double at = -1) {
         struct Cut {
             int edge;
             double at;  // distance from the edge's hinge's a; < 0: where split_distance says
+            bool across_strip;
         };
-        std::vector<Cut> cuts{{first, -1}};
+        std::vector<Cut> cuts{{first, at, false}};
         while (!cuts.empty() && mesh_.num_vertices() < vertex_budget_) {
             const Cut cut = cuts.back();
             cuts.pop_back();
-            if (cut.at >= 0 && is_delaunay(cut.edge)) continue;
+            if (cut.across_strip && is_delaunay(cut.edge)) continue;
             const Hinge k = hinge(cut.edge);
             const double l = dist(k.a, k.b);
             const OuterHalfedges outer = outer_halfedges(k);
@@ -366,14 +372,16 @@ private:
             }
             double position = cut.at;
             if (position < 0) {
-                const bool trials = look_ahead && options_.cascade_trials > 1;
+                const bool trials = look_ahead && options_.cascade_trials > 1 &&
+                                    trial_splits_ < kTrialWork * (report.splits + input_vertices_ / 8);
                 position = split_distance(k, l, trials ? &alternatives_ : nullptr);
                 if (trials && alternatives_.size() > 1) position = fewest_splits_after(cut.edge, alternatives_);
             }
             split(cut.edge, position);
             ++report.splits;
             for (int i = 0; i < outer.count; ++i)
-                if (const std::optional<double> at = strip_cut(sides[i]); at) cuts.push_back({sides[i].edge, *at});
+                if (const std::optional<double> across = strip_cut(sides[i]); across)
+                    cuts.push_back({sides[i].edge, *across, true});
         }
     }
     // Of the positions (distances from the hinge's a) on e, the one whose split starts the
@@ -391,9 +399,13 @@ private:
         }
         return chosen;
     }
-    // The splits that splitting e at distance t from its hinge's a costs: itself and what the
-    // loop then splits, followed for kTrialSplits splits, plus the physical edges still queued
-    // then. The other queued edges wait outside the trial, which is taken back.
+    // The splits that splitting e at distance t from its hinge's a costs: itself with the strip
+    // cuts it carries on, then what the loop splits, followed for kTrialSplits splits (or until
+    // at_most), plus the edges the trial left to split. A trial must make the strip cuts the
+    // real split makes: without them, a split in a drum's band of 1,000 rim points looked
+    // cheapest at a height where the ring that followed did not close the strips, and the
+    // conversion ran into its vertex budget (118,018 vertices instead of one ring of 2,000).
+    // The edges queued before wait outside the trial, which is taken back.
     long long splits_after(int e, double t, long long at_most) {
         std::vector<int> flat_waiting = std::move(flat_queue_);
         auto physical_waiting = std::move(physical_queue_);
@@ -401,8 +413,8 @@ private:
         physical_queue_ = {};
         begin_trial();
         ConversionReport trial;
-        split(e, t);
-        for (long long flips = 0; trial.splits < kTrialSplits && 1 + trial.splits < at_most && flips < kTrialFlips;) {
+        split_across_strips(e, trial, false, t);
+        for (long long flips = 0; trial.splits < kTrialSplits && trial.splits < at_most && flips < kTrialFlips;) {
             const int g = pop();
             if (g < 0 || mesh_.num_vertices() >= vertex_budget_) break;
             if (mesh_.is_removed_edge(g) || is_delaunay(g)) continue;
@@ -413,7 +425,12 @@ private:
                 split_across_strips(g, trial, false);
             }
         }
-        const long long cost = 1 + trial.splits + static_cast<long long>(physical_queue_.size());
+        trial_splits_ += trial.splits;
+        long long cost = trial.splits;
+        auto still_to_split = [&](int g) {
+            return !mesh_.is_removed_edge(g) && !is_delaunay(g) && !(is_flat(g, flat_angle_) && is_flippable(g));
+        };
+        for (int g = pop(); g >= 0; g = pop()) cost += still_to_split(g);  // entries may have healed
         rollback();
         flat_queue_ = std::move(flat_waiting);
         physical_queue_ = std::move(physical_waiting);
@@ -1534,6 +1551,7 @@ private:
     };
     std::optional<Trial> trial_;
     std::vector<double> alternatives_;  // split_distance's, for split_across_strips
+    long long trial_splits_ = 0;  // made by trials, all taken back
     std::vector<int> flat_queue_;
     std::priority_queue<std::pair<double, int>> physical_queue_;
 };

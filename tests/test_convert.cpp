@@ -75,6 +75,30 @@ TriangleMesh strip_cylinder(int bottom, int top, double height) {
     return mesh;
 }
 
+// A closed drum: two rims of n points at jittered angles, joined by a band of n quads split by
+// their diagonals, each rim closed by a fan of n needles around its centre.
+TriangleMesh drum(int n) {
+    TriangleMesh mesh;
+    mesh.V.resize(2 * n + 2, 3);
+    for (int rim = 0; rim < 2; ++rim)
+        for (int i = 0; i < n; ++i) {
+            const double jitter = 0.5 * std::fmod((i + 1) * (rim == 0 ? 0.618034 : 0.414214), 1.0);
+            const double angle = 2 * std::numbers::pi * (i + jitter) / n;
+            mesh.V.row(rim * n + i) << std::cos(angle), std::sin(angle), rim;
+        }
+    mesh.V.row(2 * n) << 0, 0, 0;
+    mesh.V.row(2 * n + 1) << 0, 0, 1;
+    mesh.F.resize(4 * n, 3);
+    for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        mesh.F.row(4 * i) << j, i, 2 * n;
+        mesh.F.row(4 * i + 1) << n + i, n + j, 2 * n + 1;
+        mesh.F.row(4 * i + 2) << i, j, n + j;
+        mesh.F.row(4 * i + 3) << i, n + j, n + i;
+    }
+    return mesh;
+}
+
 TriangleMesh adversarial(const std::string& name) {
     if (name == "skewed_grid") return bumpy(make_grid(12, 10, 1.0, 1.0, 2.5), 0.05);
     if (name == "needle_band") return bumpy(make_grid(40, 2, 4.0, 0.01), 0.3);  // sides 0.1 x 0.005
@@ -460,6 +484,18 @@ TEST(ConvertMethods, CascadeTrialsAddFewerVertices) {
         EXPECT_TRUE(again.mesh.V == tried.mesh.V && again.mesh.F == tried.mesh.F) << name;
     }
     EXPECT_GT(saved, 0);
+}
+
+// A trial of a split in the drum's band makes the ring of strip cuts the split starts, as the
+// real split does; trials that left it out to the loop chose heights whose rings did not close
+// the strips and ran into the vertex budget.
+TEST(ConvertMethods, CascadeTrialsKeepTheRingOfAStrip) {
+    const TriangleMesh band = drum(1000);
+    for (const int trials : {0, 4}) {
+        const ConversionResult result = convert(band, {.cascade_trials = trials});
+        ASSERT_EQ(result.report.status, ConvertStatus::certified) << trials;
+        EXPECT_EQ(result.mesh.num_vertices() - band.num_vertices(), 2000) << trials;
+    }
 }
 
 // With no vertex ids left in the budget, every move of the search runs out; the first one is
