@@ -389,7 +389,7 @@ private:
     // scores of least_cascading see one step ahead; a trial sees how the broken sides' own
     // splits go. Measured against the first position alone: koala 2.41 -> 2.25 vertices added
     // per non-Delaunay edge, elk 2.33 -> 2.18, mushroom 2.39 -> 2.21, boot 2.11 -> 2.01,
-    // couplingdown 4.50 -> 3.78, nefertiti 1.70 -> 1.66, cheese 12.15 -> 11.82.
+    // couplingdown 4.50 -> 3.78, nefertiti 1.70 -> 1.66, cheese 12.15 -> 11.76.
     double fewest_splits_after(int e, const std::vector<double>& positions) {
         double chosen = positions.front();
         long long fewest = std::numeric_limits<long long>::max();
