@@ -91,13 +91,15 @@ def test_convert_equals_the_cli(cli, tmp_path, bunny_path, bunny, converted_bunn
     assert sdmesh.check(V, F)["self_delaunay"]
 
 
-def test_local_search_equals_the_cli(cli, tmp_path, bunny_path, bunny):
-    done = cli("convert", bunny_path, tmp_path / "out.obj", "--local-search", "1")
+@pytest.mark.parametrize("option, value", [("local_search", 1), ("cascade_trials", 0)])
+def test_convert_options_equal_the_cli(cli, tmp_path, bunny_path, bunny, option, value):
+    flag = "--" + option.replace("_", "-")
+    done = cli("convert", bunny_path, tmp_path / "out.obj", flag, str(value))
     expected = cli_json(done)
     del expected["input"], expected["output"]
-    V, F, report = sdmesh.convert(*bunny, local_search=1)
+    V, F, report = sdmesh.convert(*bunny, **{option: value})
     assert without_timings(report) == without_timings(expected)
-    assert report["local_search"] == 1
+    assert report[option] == value
     V_cli, F_cli = sdmesh.read_mesh(tmp_path / "out.obj")
     np.testing.assert_array_equal(V, V_cli)
     np.testing.assert_array_equal(F, F_cli)
@@ -198,14 +200,3 @@ def test_heat_equals_the_cli(cli, tmp_path, converted_bunny):
     expected = read_binary_ply_fields(tmp_path / "u.ply", ["u"])["u"]
     u = sdmesh.heat(V, F, u0, 1e-3, steps=3, mass="galerkin")
     assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
-
-def test_cascade_trials_equal_the_cli(cli, tmp_path, bunny_path, bunny):
-    done = cli("convert", bunny_path, tmp_path / "out.obj", "--cascade-trials", "0")
-    expected = cli_json(done)
-    del expected["input"], expected["output"]
-    V, F, report = sdmesh.convert(*bunny, cascade_trials=0)
-    assert without_timings(report) == without_timings(expected)
-    assert report["cascade_trials"] == 0
-    V_cli, F_cli = sdmesh.read_mesh(tmp_path / "out.obj")
-    np.testing.assert_array_equal(V, V_cli)
-    np.testing.assert_array_equal(F, F_cli)
