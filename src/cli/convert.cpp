@@ -18,8 +18,7 @@ namespace {
 constexpr const char* kConvertUsage =
     "sdmesh convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell] [--max-dihedral DEG] "
     "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--cascade-trials N] [--local-search PASSES] "
-    "[--lower-bound] "
-    "[--repair] [--report FILE.json] [--progress]";
+    "[--lower-bound] [--repair] [--report FILE.json] [--progress]";
 
 }  // namespace
 
