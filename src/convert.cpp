@@ -1101,14 +1101,12 @@ private:
             sides.for_each_choice(within, [&](Interval range, unsigned) {
                 for_each_dyadic(k, on_input_edge, range, kCascadeDyadics, candidate);
             });
-        // scores[c]: complete only while candidate c could still win; kept[c]: its first term.
-        std::array<int, kMost> scores, kept;
-        int best = -1;
+        std::array<int, kMost> kept;  // by candidate: the weight of the sides it keeps
+        int best = -1, best_score = std::numeric_limits<int>::min();
         const CleanNeighbours neighbours = clean_neighbours(k);
         const unsigned shared = sides_broken_anyway(sides);
         for (int c = 0; c < candidates; ++c) {
             const double t = positions[c];
-            const int best_score = best < 0 ? std::numeric_limits<int>::min() : scores[best];
             int score = 0;
             unsigned broken = 0;  // physical sides
             for (int i = 0; i < sides.count; ++i) {
@@ -1121,8 +1119,7 @@ private:
             for (int i = 0; i < sides.count && score > best_score; ++i)
                 if ((broken >> i & 1u) && !side_splits_cleanly(k, l, t, i, sides.halfedge[i])) --score;
             if (score > best_score) score -= spoiled(k, l, t, neighbours);
-            scores[c] = score;
-            if (score > best_score) best = c;
+            if (score > best_score) best_score = score, best = c;
         }
         if (best < 0) return 0.5 * l;
         if (alternatives) {
