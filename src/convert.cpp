@@ -60,6 +60,14 @@ constexpr long long kTrialWork = 8;
 // Local search places again at most this many split points at once: more (dense fans of
 // needles) cost time that grows with them and rarely pay (16, 32 and unlimited measured alike).
 constexpr size_t kLocalSearchPoints = 16;
+
+// fewest_points_per_edge places points where the cotangent sums of the pieces they touch are
+// at least this, so that rounding does not undo them: far from the origin (the skewed grid
+// moved by 10^6) a margin of 1e-9 lost two thirds of the points it saves near it.
+constexpr double kPlacementMargin = 1e-6;
+// ... and sweeps the edges this many times, alternately placing from either end: moving a
+// point without saving one can make room on the edges beside it.
+constexpr int kFewestPointsPasses = 4;
 // The lower bound takes an edge for broken only where its margin is below minus the
 // locally-Delaunay tolerance by more than this (rounding of the margin, ~1e-15).
 constexpr double kBoundRounding = 1e-12;
@@ -165,6 +173,8 @@ public:
         if (options_.method == ConvertMethod::split && report.status == ConvertStatus::certified &&
             report.vertices_inside_faces == 0) {
             remove_unneeded_points(report);
+            const std::vector<char> respaced = fewest_points_per_edge(report);
+            remove_unneeded_points(report, &respaced);
             if (options_.local_search > 0) {
                 // What the search changed may let other points go; elsewhere none can.
                 const std::vector<char> changed = local_search(report);
@@ -714,13 +724,214 @@ private:
                                  : options_.boundary == BoundaryPolicy::strict ? apex_cotangent(f, p, q, e)
                                                                               : 0.0;
             if (!(margin >= 0)) continue;
-            if (undo_split(x, report)) {
+            if (undo_split(x, report) >= 0) {
                 ++report.removed_points;
                 for_each_point_in_plane_of(f, try_later);
                 if (g >= 0) for_each_point_in_plane_of(g, try_later);
             }
             drain(report);
         }
+    }
+
+    // Each input edge with two or more split points gets the fewest that suffice with the
+    // points of every other edge in place: from one end, each point goes as far as the piece
+    // before it stays locally Delaunay, and outside the circles where it would break a piece of
+    // the other edges of its faces. Inside an input face whose edges are all folds, the apex of
+    // a piece is the point of the face that sees it widest (its triangulation is the Delaunay
+    // triangulation of points on a triangle's boundary), so both tests read point sets, and
+    // this reach is optimal on the edge: a piece inside a locally Delaunay piece is locally
+    // Delaunay. Edges next to coplanar faces, whose planes triangulate together, are left as
+    // they are. Returns which input edges got or lost points.
+    std::vector<char> fewest_points_per_edge(ConversionReport& report) {
+        const int edges = input_edges_.num_edges();
+        std::vector<std::vector<int>> on_edge(static_cast<size_t>(edges));
+        auto index_points = [&](size_t from) {
+            for (size_t y = from; y < P_.size(); ++y)
+                if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0 && !removed_[y - input_vertices_])
+                    on_edge[ie].push_back(static_cast<int>(y));
+        };
+        index_points(static_cast<size_t>(input_vertices_));
+        auto face_of = [&](int e, int side) {
+            const int h = input_edges_.edge_halfedges(e, side);
+            return h < 0 ? -1 : h / 3;
+        };
+        auto all_folds = [&](int f) {
+            for (int k = 0; k < 3; ++k)
+                if (input_flat_[input_edges_.face_edge(f, k)]) return false;
+            return true;
+        };
+        std::vector<Eigen::Vector3d> points[2], others;
+        // The corners of face f and the points on its edges but e.
+        auto gather = [&](int f, int e, std::vector<Eigen::Vector3d>& out) {
+            out.clear();
+            for (int k = 0; k < 3; ++k) {
+                out.push_back(P_[input_.F(f, k)]);
+                if (const int g = input_edges_.face_edge(f, k); g != e)
+                    for (const int y : on_edge[g])
+                        if (!removed_[y - input_vertices_]) out.push_back(P_[y]);
+            }
+        };
+        // Cotangent of the widest angle under which a point of `face` sees u-v (+inf for none).
+        auto apex_cotangent = [](const std::vector<Eigen::Vector3d>& face, const Eigen::Vector3d& u,
+                                 const Eigen::Vector3d& v) {
+            double smallest = std::numeric_limits<double>::infinity();
+            for (const Eigen::Vector3d& p : face) {
+                const Eigen::Vector3d a = u - p, b = v - p;
+                const double sine = a.cross(b).norm();
+                if (sine > 0) smallest = std::min(smallest, a.dot(b) / sine);
+            }
+            return smallest;
+        };
+        const bool strict = options_.boundary == BoundaryPolicy::strict;
+        std::vector<char> changed(static_cast<size_t>(edges), 0);
+        std::vector<std::pair<double, double>> forbidden;
+        std::vector<double> placed;
+        std::vector<int> chain;
+        // The pieces of input edge g in order from its first endpoint, as point ids.
+        auto pieces_of = [&](int g) {
+            chain.assign(on_edge[g].begin(), on_edge[g].end());
+            std::erase_if(chain, [&](int y) { return removed_[y - input_vertices_] != 0; });
+            const Eigen::Vector3d& start = P_[input_edges_.E(g, 0)];
+            std::sort(chain.begin(), chain.end(),
+                      [&](int p, int q) { return (P_[p] - start).squaredNorm() < (P_[q] - start).squaredNorm(); });
+            chain.insert(chain.begin(), input_edges_.E(g, 0));
+            chain.push_back(input_edges_.E(g, 1));
+        };
+        // The distances from E(e, 0) of the fewest points e needs, placed from E(e, `from`);
+        // none if that is more than it has.
+        auto fewest = [&](int e, int from) -> std::optional<std::vector<double>> {
+            const int a = input_edges_.E(e, from), b = input_edges_.E(e, 1 - from);
+            const Eigen::Vector3d& A = P_[a];
+            const double l = distance(A, P_[b]);
+            const Eigen::Vector3d along = (P_[b] - A) / l;
+            const int sides = face_of(e, 1) < 0 ? 1 : 2;
+            forbidden.clear();
+            for (int side = 0; side < sides; ++side) {
+                const int f = face_of(e, side);
+                gather(f, e, points[side]);
+                for (int k = 0; k < 3; ++k) {
+                    const int g = input_edges_.face_edge(f, k);
+                    if (g == e) continue;
+                    const int across = face_of(g, 0) == f ? face_of(g, 1) : face_of(g, 0);
+                    if (across < 0 && !strict) continue;
+                    if (across >= 0) gather(across, g, others);
+                    const Eigen::Vector3d& w = P_[input_.F(f, k)];  // the corner of f off g, on e
+                    pieces_of(g);
+                    for (size_t j = 0; j + 1 < chain.size(); ++j) {
+                        const Eigen::Vector3d &u = P_[chain[j]], &v = P_[chain[j + 1]];
+                        // x on e breaks u-v where it sees it under a cotangent below c: inside
+                        // the circle through u and v on w's side whose inscribed angle has it.
+                        const double c = kPlacementMargin - (across < 0 ? 0.0 : apex_cotangent(others, u, v));
+                        const Eigen::Vector3d middle = (u + v) / 2, chord = v - u;
+                        Eigen::Vector3d normal = w - middle;
+                        normal -= normal.dot(chord) / chord.squaredNorm() * chord;
+                        const double half = chord.norm() / 2;
+                        const Eigen::Vector3d center = middle + normal.normalized() * (half * c);
+                        const double t0 = (center - A).dot(along);
+                        const double room = half * half * (1 + c * c) - ((center - A).squaredNorm() - t0 * t0);
+                        if (room > 0) forbidden.emplace_back(t0 - std::sqrt(room), t0 + std::sqrt(room));
+                    }
+                }
+            }
+            std::sort(forbidden.begin(), forbidden.end());
+            // The piece from s to t is locally Delaunay against both faces' points, with a margin.
+            auto delaunay = [&](double s, double t) {
+                const Eigen::Vector3d u = A + s * along, v = A + t * along;
+                if (sides == 1) return !strict || apex_cotangent(points[0], u, v) >= kPlacementMargin;
+                return apex_cotangent(points[0], u, v) + apex_cotangent(points[1], u, v) >= kPlacementMargin;
+            };
+            const size_t has = on_edge[e].size();
+            placed.clear();
+            for (double s = 0; !delaunay(s, l);) {
+                if (placed.size() + 1 > has) return std::nullopt;
+                double reach = s, beyond = l;
+                for (int i = 0; i < 50; ++i) {
+                    const double t = (reach + beyond) / 2;
+                    (delaunay(s, t) ? reach : beyond) = t;
+                }
+                double x = std::min(reach, l * (1 - kNearEnd));
+                for (auto it = forbidden.rbegin(); it != forbidden.rend(); ++it)
+                    if (it->first < x && x < it->second) x = it->first;  // by lo, downwards: x only moves down
+                if (x < s + kNearEnd * l) return std::nullopt;
+                placed.push_back(x);
+                s = x;
+            }
+            if (from == 1) {
+                for (double& t : placed) t = l - t;
+                std::reverse(placed.begin(), placed.end());
+            }
+            return placed;
+        };
+        // The faces of e's faces' edges must all be single-face planes.
+        auto in_folds = [&](int e) {
+            for (int side = 0; side < 2; ++side)
+                if (const int f = face_of(e, side); f >= 0)
+                    for (int k = 0; k < 3; ++k)
+                        for (int g_side = 0; g_side < 2; ++g_side)
+                            if (const int g = face_of(input_edges_.face_edge(f, k), g_side); g >= 0 && !all_folds(g))
+                                return false;
+            return true;
+        };
+        std::vector<int> candidates;
+        for (int e = 0; e < edges; ++e)
+            if (on_edge[e].size() >= 2 && !input_flat_[e] && in_folds(e)) candidates.push_back(e);
+        for (int pass = 0; pass < kFewestPointsPasses; ++pass) {
+            for (const int e : candidates) {
+                if (report.status != ConvertStatus::certified) break;
+                std::erase_if(on_edge[e], [&](int y) { return removed_[y - input_vertices_] != 0; });
+                if (on_edge[e].size() < 2) continue;
+                const auto positions = fewest(e, pass % 2);
+                if (!positions) continue;
+                const std::vector<int> old_points = on_edge[e];
+                if (positions->size() == old_points.size() && std::all_of(old_points.begin(), old_points.end(), [&](int y) {
+                        return std::any_of(positions->begin(), positions->end(), [&](double t) {
+                            return std::abs(distance(P_[input_edges_.E(e, 0)], P_[y]) - t) <= 1e-12 * input_length_[e];
+                        });
+                    }))
+                    continue;  // where they are
+                if (mesh_.num_vertices() + static_cast<long long>(positions->size()) > vertex_budget_) continue;
+                const ConversionReport before = report;
+                begin_trial();
+                int whole = -1;
+                for (const int y : old_points) {
+                    whole = undo_split(y, report);
+                    if (whole < 0) break;
+                    ++report.removed_points;
+                }
+                if (whole >= 0) {
+                    // Split the rest of e, from a's end, at each position in turn.
+                    int rest = whole, near = input_edges_.E(e, 0);
+                    double done = 0;
+                    for (const double t : *positions) {
+                        const Hinge k = hinge(rest);
+                        const bool from_near = k.a == near;
+                        split(rest, from_near ? t - done : dist(k.a, k.b) - (t - done));
+                        ++report.splits;
+                        near = static_cast<int>(P_.size()) - 1;
+                        rest = pieces_[near - input_vertices_][from_near ? 1 : 0];
+                        done = t;
+                    }
+                    // A drain that has to split stops one split beyond as many as it took.
+                    drain(report, before.splits + static_cast<long long>(old_points.size()) + 1);
+                }
+                const long long added = report.splits - report.removed_points;
+                if (whole >= 0 && report.status == ConvertStatus::certified && report.vertices_inside_faces == 0 &&
+                    added <= before.splits - before.removed_points) {
+                    const size_t first_new = trial_->points;
+                    commit();
+                    changed[e] = 1;
+                    for (size_t y = first_new; y < P_.size(); ++y)
+                        if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0) changed[ie] = 1;
+                    on_edge[e].clear();
+                    index_points(first_new);
+                    report.fewest_points_saved += before.splits - before.removed_points - added;
+                    continue;
+                }
+                rollback();
+                report = before;
+            }
+        }
+        return changed;
     }
 
     // Inside a trial, writes to entries that existed before it are recorded first.
@@ -812,7 +1023,7 @@ private:
                 const ConversionReport before = report;
                 begin_trial();
                 for (const int y : victims) {
-                    if (!undo_split(y, report)) break;
+                    if (undo_split(y, report) < 0) break;
                     ++report.removed_points;
                 }
                 // It pays only with fewer points than it took: stop before as many are placed.
@@ -873,13 +1084,14 @@ private:
         }
     }
 
-    // Removes split point x; false if its spokes could not be reduced to one per side.
-    bool undo_split(int x, ConversionReport& report) {
+    // Removes split point x and returns the edge that joins its neighbours on the input edge;
+    // -1 if its spokes could not be reduced to one per side.
+    int undo_split(int x, ConversionReport& report) {
         auto [piece, other] = pieces_[x - input_vertices_];
         if (side_into(piece, x) < 0) std::swap(piece, other);  // on a boundary line
         const int p = other_end(piece, x), q = other_end(other, x);
-        if (!keep_one_spoke(piece, x, q, report)) return false;
-        if (side_into(other, x) >= 0 && !keep_one_spoke(other, x, p, report)) return false;
+        if (!keep_one_spoke(piece, x, q, report)) return -1;
+        if (side_into(other, x) >= 0 && !keep_one_spoke(other, x, p, report)) return -1;
         const int h = side_into(piece, x), t = mesh_.twin(h);
         mesh_.merge(h);
         set_removed(x - input_vertices_, 1);
@@ -890,7 +1102,7 @@ private:
             push(mesh_.edge(HalfedgeMesh::prev(side)));
         }
         push(piece);
-        return true;
+        return piece;
     }
 
     // An angle bound for dihedral tests, with its tangent: below π/2 the test needs no arctangent.

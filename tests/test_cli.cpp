@@ -56,7 +56,8 @@ TEST_F(Cli, ConvertReportHasTheDocumentedKeys) {
     EXPECT_EQ(r.code, 0) << r.err;
     for (const char* key : {"input_vertices", "output_vertices", "input_non_delaunay_edges",
                             "input_nonflat_non_delaunay_edges", "flips", "splits", "unflippable_edges",
-                            "removed_points", "added_vertices_lower_bound", "cascade_trials", "status", "seconds",
+                            "removed_points", "fewest_points_saved", "added_vertices_lower_bound", "cascade_trials",
+                            "status", "seconds",
                             "hausdorff_rel", "certificate"})
         EXPECT_NE(r.out.find(std::string(1, '"').append(key).append("\": ")), std::string::npos) << key;
     EXPECT_NE(r.out.find("\"status\": \"certified\""), std::string::npos);

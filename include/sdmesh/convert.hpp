@@ -104,6 +104,9 @@ struct ConversionReport {
     long long removed_points = 0;
     /// split: vertices fewer thanks to local search (options.local_search); included above
     long long local_search_saved = 0;
+    /// split: vertices fewer because the points of an input edge were placed again, the fewest
+    /// that suffice with the points of the other edges in place; included above
+    long long fewest_points_saved = 0;
     /// split with options.lower_bound: at least this many vertices must be added by any
     /// conversion that keeps the surface and puts its vertices on input edges (this one
     /// included), from what a split point asks of the edges next to it; -1 when not computed.

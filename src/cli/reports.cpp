@@ -114,6 +114,7 @@ JsonObject conversion_json(const ConvertOptions& options, const ConversionReport
         .add("vertices_inside_faces", r.vertices_inside_faces)
         .add("removed_points", r.removed_points)
         .add("local_search_saved", r.local_search_saved)
+        .add("fewest_points_saved", r.fewest_points_saved)
         .add("added_vertices_lower_bound", r.added_vertices_lower_bound)
         .add("status", to_string(r.status))
         .add("seconds", r.seconds)
