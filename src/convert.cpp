@@ -173,8 +173,9 @@ public:
         if (options_.method == ConvertMethod::split && report.status == ConvertStatus::certified &&
             report.vertices_inside_faces == 0) {
             remove_unneeded_points(report);
-            const std::vector<char> respaced = fewest_points_per_edge(report);
-            remove_unneeded_points(report, &respaced);
+            // What the edges' new points changed may let other points go; elsewhere none can.
+            if (const std::vector<char> respaced = fewest_points_per_edge(report); !respaced.empty())
+                remove_unneeded_points(report, &respaced);
             if (options_.local_search > 0) {
                 // What the search changed may let other points go; elsewhere none can.
                 const std::vector<char> changed = local_search(report);
@@ -741,16 +742,9 @@ private:
     // triangulation of points on a triangle's boundary), so both tests read point sets, and
     // this reach is optimal on the edge: a piece inside a locally Delaunay piece is locally
     // Delaunay. Edges next to coplanar faces, whose planes triangulate together, are left as
-    // they are. Returns which input edges got or lost points.
+    // they are. Returns which input edges got or lost points (empty if none did).
     std::vector<char> fewest_points_per_edge(ConversionReport& report) {
         const int edges = input_edges_.num_edges();
-        std::vector<std::vector<int>> on_edge(static_cast<size_t>(edges));
-        auto index_points = [&](size_t from) {
-            for (size_t y = from; y < P_.size(); ++y)
-                if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0 && !removed_[y - input_vertices_])
-                    on_edge[ie].push_back(static_cast<int>(y));
-        };
-        index_points(static_cast<size_t>(input_vertices_));
         auto face_of = [&](int e, int side) {
             const int h = input_edges_.edge_halfedges(e, side);
             return h < 0 ? -1 : h / 3;
@@ -760,7 +754,31 @@ private:
                 if (input_flat_[input_edges_.face_edge(f, k)]) return false;
             return true;
         };
+        // The faces of e's faces' edges must all be single-face planes.
+        auto in_folds = [&](int e) {
+            for (int side = 0; side < 2; ++side)
+                if (const int f = face_of(e, side); f >= 0)
+                    for (int k = 0; k < 3; ++k)
+                        for (int g_side = 0; g_side < 2; ++g_side)
+                            if (const int g = face_of(input_edges_.face_edge(f, k), g_side); g >= 0 && !all_folds(g))
+                                return false;
+            return true;
+        };
+        std::vector<int> count(static_cast<size_t>(edges), 0), candidates;
+        for (size_t y = input_vertices_; y < P_.size(); ++y)
+            if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0 && !removed_[y - input_vertices_]) ++count[ie];
+        for (int e = 0; e < edges; ++e)
+            if (count[e] >= 2 && !input_flat_[e] && in_folds(e)) candidates.push_back(e);
+        if (candidates.empty()) return {};
+        std::vector<std::vector<int>> on_edge(static_cast<size_t>(edges));
+        auto index_points = [&](size_t from) {
+            for (size_t y = from; y < P_.size(); ++y)
+                if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0 && !removed_[y - input_vertices_])
+                    on_edge[ie].push_back(static_cast<int>(y));
+        };
+        index_points(static_cast<size_t>(input_vertices_));
         std::vector<Eigen::Vector3d> points[2], others;
+        std::vector<Eigen::Vector2d> unfolded[2];
         // The corners of face f and the points on its edges but e.
         auto gather = [&](int f, int e, std::vector<Eigen::Vector3d>& out) {
             out.clear();
@@ -834,22 +852,53 @@ private:
                 }
             }
             std::sort(forbidden.begin(), forbidden.end());
+            // Each face's points unfolded: distance along e from a, and from e's line.
+            for (int side = 0; side < sides; ++side) {
+                unfolded[side].clear();
+                for (const Eigen::Vector3d& p : points[side])
+                    unfolded[side].emplace_back((p - A).dot(along), (p - A).cross(along).norm());
+            }
             // The piece from s to t is locally Delaunay against both faces' points, with a margin.
             auto delaunay = [&](double s, double t) {
                 const Eigen::Vector3d u = A + s * along, v = A + t * along;
                 if (sides == 1) return !strict || apex_cotangent(points[0], u, v) >= kPlacementMargin;
                 return apex_cotangent(points[0], u, v) + apex_cotangent(points[1], u, v) >= kPlacementMargin;
             };
+            // Where the piece from s stops being locally Delaunay. Across e, p and q (at heights
+            // p.y and -q.y) see s-t under angles summing to π where q lies on the circle through
+            // s, t and p: (q.x - s)(q.x - t) + q.y² + κ((p.x - s)(p.x - t) + p.y²) = 0, κ = q.y / p.y,
+            // linear in t. On a strict boundary p sees it under π/2 where κ = 0 and q = p.
+            auto reach = [&](double s) {
+                double t = std::numeric_limits<double>::infinity();
+                auto bound = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q, double kappa) {
+                    const double slope = (q.x() - s) + kappa * (p.x() - s);
+                    const double rest = q.x() * (q.x() - s) + q.y() * q.y() + kappa * (p.x() * (p.x() - s) + p.y() * p.y());
+                    if (slope > 0) t = std::min(t, rest / slope);
+                };
+                if (sides == 1) {
+                    if (strict)
+                        for (const Eigen::Vector2d& p : unfolded[0]) bound(p, p, 0);
+                } else {
+                    for (const Eigen::Vector2d& p : unfolded[0])
+                        if (p.y() > 0)
+                            for (const Eigen::Vector2d& q : unfolded[1]) bound(p, q, q.y() / p.y());
+                }
+                return t;
+            };
             const size_t has = on_edge[e].size();
             placed.clear();
             for (double s = 0; !delaunay(s, l);) {
                 if (placed.size() + 1 > has) return std::nullopt;
-                double reach = s, beyond = l;
-                for (int i = 0; i < 50; ++i) {
-                    const double t = (reach + beyond) / 2;
-                    (delaunay(s, t) ? reach : beyond) = t;
+                // Just short of the reach, where the margin holds (else where bisection finds it).
+                double x = std::min(s + (reach(s) - s) * (1 - kPlacementMargin), l * (1 - kNearEnd));
+                if (!delaunay(s, x)) {
+                    double beyond = x;
+                    x = s;
+                    for (int i = 0; i < 50; ++i) {
+                        const double t = (x + beyond) / 2;
+                        (delaunay(s, t) ? x : beyond) = t;
+                    }
                 }
-                double x = std::min(reach, l * (1 - kNearEnd));
                 for (auto it = forbidden.rbegin(); it != forbidden.rend(); ++it)
                     if (it->first < x && x < it->second) x = it->first;  // by lo, downwards: x only moves down
                 if (x < s + kNearEnd * l) return std::nullopt;
@@ -862,19 +911,6 @@ private:
             }
             return placed;
         };
-        // The faces of e's faces' edges must all be single-face planes.
-        auto in_folds = [&](int e) {
-            for (int side = 0; side < 2; ++side)
-                if (const int f = face_of(e, side); f >= 0)
-                    for (int k = 0; k < 3; ++k)
-                        for (int g_side = 0; g_side < 2; ++g_side)
-                            if (const int g = face_of(input_edges_.face_edge(f, k), g_side); g >= 0 && !all_folds(g))
-                                return false;
-            return true;
-        };
-        std::vector<int> candidates;
-        for (int e = 0; e < edges; ++e)
-            if (on_edge[e].size() >= 2 && !input_flat_[e] && in_folds(e)) candidates.push_back(e);
         for (int pass = 0; pass < kFewestPointsPasses; ++pass) {
             for (const int e : candidates) {
                 if (report.status != ConvertStatus::certified) break;
@@ -931,6 +967,7 @@ private:
                 report = before;
             }
         }
+        if (std::find(changed.begin(), changed.end(), 1) == changed.end()) return {};
         return changed;
     }
 
