@@ -10,7 +10,8 @@
 //            in a strip of thin faces carries its cut on across the strip, at the same fraction
 //            of each long edge (a loop cut), so that a tessellated cylinder takes one ring of
 //            points. At the end, split points that later ones made unnecessary are removed
-//            again, until no point can go alone.
+//            again, until no point can go alone, and each input edge with several points gets
+//            the fewest that suffice beside the points of the edges around it.
 //  - hybrid: edges within max_dihedral_deg of flat are flipped, the others split: fewer new
 //            vertices for a bounded change of the surface (reported as a Hausdorff distance).
 //
