@@ -1,0 +1,237 @@
+// Splits decided together: cuts carried across strips of thin faces, cascade trials, and the
+// joint splits of non-Delaunay edges that share only outer sides.
+#include "convert/converter.hpp"
+
+namespace sdmesh::conversion {
+
+void Converter::count_thin_corners() {
+    thin_corners_.assign(static_cast<size_t>(input_vertices_), 0);
+    for (int f = 0; f < input_.num_faces(); ++f)
+        for (int c = 0; c < 3; ++c) {
+            const int v = input_.F(f, c), p = input_.F(f, (c + 1) % 3), q = input_.F(f, (c + 2) % 3);
+            if (corner_angle(dist(p, q), dist(v, p), dist(v, q)) < kThinCorner) ++thin_corners_[v];
+        }
+}
+
+void Converter::split_across_strips(int first, ConversionReport& report, bool look_ahead, double at) {
+    struct Cut {
+        int edge;
+        double at;  // distance from the edge's hinge's a; < 0: where split_distance says
+        bool across_strip;
+    };
+    std::vector<Cut> cuts{{first, at, false}};
+    while (!cuts.empty() && mesh_.num_vertices() < vertex_budget_) {
+        const Cut cut = cuts.back();
+        cuts.pop_back();
+        if (cut.across_strip && is_delaunay(cut.edge)) continue;
+        const Hinge k = hinge(cut.edge);
+        const double l = dist(k.a, k.b);
+        const OuterHalfedges outer = outer_halfedges(k);
+        std::array<StripSide, 4> sides;
+        for (int i = 0; i < outer.count; ++i) {
+            const int g = outer.h[i], shared = i % 2 == 0 ? k.a : k.b;
+            sides[i] = {mesh_.edge(g), shared, mesh_.tail(g) == shared ? mesh_.head(g) : mesh_.tail(g),
+                        shared == k.a ? k.b : k.a};
+        }
+        double position = cut.at;
+        if (position < 0) {
+            const bool trials = look_ahead && options_.cascade_trials > 1 &&
+                                trial_splits_ < kTrialWork * (report.splits + input_vertices_ / 8);
+            position = split_distance(k, l, trials ? &alternatives_ : nullptr);
+            if (trials && alternatives_.size() > 1) position = fewest_splits_after(cut.edge, alternatives_);
+        }
+        split(cut.edge, position);
+        ++report.splits;
+        for (int i = 0; i < outer.count; ++i)
+            if (const std::optional<double> across = strip_cut(sides[i]); across)
+                cuts.push_back({sides[i].edge, *across, true});
+    }
+}
+
+double Converter::fewest_splits_after(int e, const std::vector<double>& positions) {
+    double chosen = positions.front();
+    long long fewest = std::numeric_limits<long long>::max();
+    for (const double t : positions) {
+        if (const long long cost = splits_after(e, t, fewest); cost < fewest) fewest = cost, chosen = t;
+        if (fewest <= 2) break;  // itself and one broken side: what nearly every position costs
+    }
+    return chosen;
+}
+
+long long Converter::splits_after(int e, double t, long long at_most) {
+    std::vector<int> flat_waiting = std::move(flat_queue_);
+    auto physical_waiting = std::move(physical_queue_);
+    flat_queue_.clear();
+    physical_queue_ = {};
+    begin_trial();
+    ConversionReport trial;
+    split_across_strips(e, trial, false, t);
+    for (long long flips = 0; trial.splits < kTrialSplits && trial.splits < at_most && flips < kTrialFlips;) {
+        const int g = pop();
+        if (g < 0 || mesh_.num_vertices() >= vertex_budget_) break;
+        if (mesh_.is_removed_edge(g) || is_delaunay(g)) continue;
+        if (is_flat(g, flat_angle_) && is_flippable(g)) {
+            flip(g);
+            ++flips;
+        } else {
+            split_across_strips(g, trial, false);
+        }
+    }
+    trial_splits_ += trial.splits;
+    long long cost = trial.splits;
+    auto still_to_split = [&](int g) {
+        return !mesh_.is_removed_edge(g) && !is_delaunay(g) && !(is_flat(g, flat_angle_) && is_flippable(g));
+    };
+    for (int g = pop(); g >= 0; g = pop()) cost += still_to_split(g);  // entries may have healed
+    rollback();
+    flat_queue_ = std::move(flat_waiting);
+    physical_queue_ = std::move(physical_waiting);
+    return cost;
+}
+
+std::optional<double> Converter::strip_cut(const StripSide& side) const {
+    const int c = side.shared, d = side.far, e = side.split_end, x = mesh_.num_vertices() - 1;
+    if (is_flat(side.edge, flat_angle_) || is_delaunay(side.edge)) return std::nullopt;
+    if (c < input_vertices_ && thin_corners_[c] > kMaxStripCorners) return std::nullopt;
+    if (corner_angle(dist(e, d), dist(c, e), dist(c, d)) >= kThinCorner) return std::nullopt;
+    int beyond = mesh_.halfedge(side.edge);  // the side's face without x
+    if (mesh_.opposite_vertex(beyond) == x) beyond = mesh_.twin(beyond);
+    if (beyond < 0) return std::nullopt;
+    const int w = mesh_.opposite_vertex(beyond);
+    const double fraction = dist(c, x) / dist(c, e);
+    Eigen::Vector3d exit;  // where the cut leaves the face beyond
+    if (corner_angle(dist(d, w), dist(c, d), dist(c, w)) < kThinCorner)
+        exit = P_[c] + fraction * (P_[w] - P_[c]);
+    else if (corner_angle(dist(c, w), dist(c, d), dist(d, w)) < kThinCorner)
+        exit = P_[d] + (1 - fraction) * (P_[w] - P_[d]);
+    else
+        return std::nullopt;
+    const Hinge k = hinge(side.edge);
+    const double l = dist(k.a, k.b);
+    const double t = distance(P_[c] + fraction * (P_[d] - P_[c]), P_[k.a]);
+    const Interval halves = away_from_ends(halves_interval(l, dist(k.a, x), dist(k.b, x), distance(P_[k.a], exit),
+                                                           distance(P_[k.b], exit)),
+                                           l, kNearEnd);
+    if (!(t >= halves.lo && t <= halves.hi)) return std::nullopt;
+    return t;
+}
+
+void Converter::split_together(ConversionReport& report) {
+    struct Side {
+        int h, from, to;
+        bool from_b;
+        int partner;  // the edge across whose point is the apex there, -1: none
+    };
+    struct Edge {
+        int e;
+        Hinge k;
+        double l;
+        Interval room;
+        std::array<Side, 4> sides;
+        int count = 0;
+        bool left_out = true;  // until it has a partner
+    };
+    const int edges = mesh_.num_edges();
+    // Nothing is split yet: the split method's flat edges are the input's.
+    const bool flat_as_input = flat_angle_.angle == coplanar_angle_.angle;
+    auto flat = [&](int e) { return flat_as_input ? input_flat_[e] != 0 : is_flat(e, flat_angle_); };
+    auto needs_split = [&](int e) { return queued_[e] && !flat(e); };
+    std::vector<Edge> group;  // by increasing edge id
+    for (int e = 0; e < edges; ++e) {
+        if (!needs_split(e)) continue;
+        // Alone in its faces, with no flat side, and not a needle (needles take shells).
+        bool alone = true;
+        for (const int h : {mesh_.halfedge(e), mesh_.twin(mesh_.halfedge(e))})
+            if (h >= 0)
+                for (const int side : {mesh_.edge(HalfedgeMesh::next(h)), mesh_.edge(HalfedgeMesh::prev(h))})
+                    alone = alone && !needs_split(side) && !flat(side);
+        if (!alone || needle_end(input_edge_[e]) >= 0) continue;
+        const Hinge k = hinge(e);
+        Edge& edge = group.emplace_back();
+        edge.e = e, edge.k = k, edge.l = dist(k.a, k.b);
+        edge.room = away_from_ends(delaunay_halves_interval(k, edge.l), edge.l, kEndClearance);
+    }
+    for (Edge& edge : group) {  // an edge without partners gains nothing here
+        const OuterHalfedges outer = outer_halfedges(edge.k);
+        for (int i = 0; i < outer.count; ++i) {
+            const bool from_b = i % 2 == 1;
+            Side side{outer.h[i], from_b ? edge.k.b : edge.k.a, from_b ? edge.k.a : edge.k.b, from_b, -1};
+            if (const int across = mesh_.twin(side.h); across >= 0)
+                for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)})
+                    if (const auto it = std::lower_bound(group.begin(), group.end(), mesh_.edge(g),
+                                                         [](const Edge& x, int e) { return x.e < e; });
+                        it != group.end() && it->e == mesh_.edge(g))
+                        side.partner = static_cast<int>(it - group.begin());
+            edge.sides[edge.count++] = side;
+            edge.left_out = edge.left_out && side.partner < 0;
+        }
+    }
+    auto point_at = [&](const Edge& edge, double t) -> Eigen::Vector3d {
+        return P_[edge.k.a] + (t / edge.l) * (P_[edge.k.b] - P_[edge.k.a]);
+    };
+    // Narrows edge's room by each side; true if it changed.
+    auto narrow = [&](Edge& edge) {
+        Interval room = edge.room;
+        for (int i = 0; i < edge.count && room.lo <= room.hi; ++i) {
+            const Side& side = edge.sides[i];
+            Interval keeps;
+            if (side.partner < 0 || group[side.partner].left_out) {
+                keeps = outer_side_interval(side.h, side.from, side.to, edge.l, side.from_b);
+            } else {
+                // The partner's point that sees the side under the narrowest angle.
+                const Edge& partner = group[side.partner];
+                const Eigen::Vector3d u = P_[mesh_.tail(side.h)], w = P_[mesh_.head(side.h)];
+                auto cosine = [&](const Eigen::Vector3d& y) {
+                    return (u - y).normalized().dot((w - y).normalized());
+                };
+                const Eigen::Vector3d lo = point_at(partner, partner.room.lo);
+                const Eigen::Vector3d hi = point_at(partner, partner.room.hi);
+                const Across future{mesh_.edge(side.h), cosine(lo) >= cosine(hi) ? lo : hi};
+                keeps = outer_side_interval(side.h, side.from, side.to, edge.l, side.from_b, &future);
+            }
+            room = {std::max(room.lo, keeps.lo), std::min(room.hi, keeps.hi)};
+        }
+        const bool changed = room.lo != edge.room.lo || room.hi != edge.room.hi;
+        edge.room = room;
+        edge.left_out = !(room.lo <= room.hi);
+        return changed;
+    };
+    std::deque<int> work;
+    std::vector<char> waiting(group.size(), 0);
+    auto wake_partners = [&](const Edge& edge) {
+        for (int i = 0; i < edge.count; ++i)
+            if (const int p = edge.sides[i].partner; p >= 0 && !group[p].left_out && !waiting[p])
+                waiting[p] = 1, work.push_back(p);
+    };
+    auto settle = [&] {
+        while (!work.empty()) {
+            const int i = work.front();
+            work.pop_front();
+            waiting[i] = 0;
+            if (!group[i].left_out && narrow(group[i])) wake_partners(group[i]);
+        }
+    };
+    for (size_t i = 0; i < group.size(); ++i) waiting[i] = 1, work.push_back(static_cast<int>(i));
+    settle();
+    std::vector<double> position(group.size(), -1);
+    for (size_t i = 0; i < group.size(); ++i) {
+        Edge& edge = group[i];
+        if (edge.left_out) continue;
+        // Off the interval's ends, which are co-circular with a side's apexes.
+        const double inset = 1e-3 * (edge.room.hi - edge.room.lo);
+        const Interval inside{edge.room.lo + inset, edge.room.hi - inset};
+        const double t = sparing_neighbours(edge.k, edge.l, inside, input_edge_[edge.e]);
+        position[i] = std::clamp(t, inside.lo, inside.hi);
+        edge.room = {position[i], position[i]};
+        wake_partners(edge);
+        settle();
+    }
+    for (size_t i = 0; i < group.size() && mesh_.num_vertices() < vertex_budget_; ++i) {
+        if (group[i].left_out) continue;
+        const bool same_way = hinge(group[i].e).a == group[i].k.a;
+        split(group[i].e, same_way ? position[i] : group[i].l - position[i]);
+        ++report.splits;
+    }
+}
+
+}  // namespace sdmesh::conversion

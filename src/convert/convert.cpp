@@ -1,0 +1,259 @@
+// convert(): the checks, the Converter's loop and its edits of the mesh.
+#include "sdmesh/convert.hpp"
+
+#include "convert/converter.hpp"
+
+namespace sdmesh::conversion {
+
+void Converter::run(ConversionReport& report) {
+    // Each edge's tests read only its hinge, so they run in parallel; the queue is filled in
+    // edge order. keys: NaN for a locally Delaunay edge, else as for enqueue().
+    const int edges = mesh_.num_edges();
+    std::vector<double> keys(static_cast<size_t>(edges));
+    needs_point_.assign(static_cast<size_t>(edges), 0);
+#pragma omp parallel for schedule(static)
+    for (int e = 0; e < edges; ++e) {
+        input_flat_[e] = is_flat(e, coplanar_angle_);
+        keys[e] = is_delaunay(e) ? std::numeric_limits<double>::quiet_NaN() : queue_key(e);
+    }
+    for (int e = 0; e < edges; ++e) {
+        if (std::isnan(keys[e])) continue;
+        ++report.input_non_delaunay_edges;
+        needs_point_[e] = !input_flat_[e];
+        report.input_nonflat_non_delaunay_edges += needs_point_[e];
+        enqueue(e, keys[e]);
+    }
+    if (options_.method == ConvertMethod::split && options_.lower_bound)
+        report.added_vertices_lower_bound = added_vertices_lower_bound();
+    vertex_budget_ = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
+    flip_budget_ = options_.max_flips > 0 ? options_.max_flips : 100LL * mesh_.num_edges() + 1'000'000;
+    if (options_.method != ConvertMethod::flip) count_thin_corners();
+    if (options_.method != ConvertMethod::flip && options_.split_rule == SplitRule::interval) split_together(report);
+    drain(report);
+    if (options_.method == ConvertMethod::split && report.status == ConvertStatus::certified &&
+        report.vertices_inside_faces == 0) {
+        remove_unneeded_points(report);
+        // What the edges' new points changed may let other points go; elsewhere none can.
+        if (const std::vector<char> respaced = fewest_points_per_edge(report); !respaced.empty())
+            remove_unneeded_points(report, &respaced);
+        if (options_.local_search > 0) {
+            // What the search changed may let other points go; elsewhere none can.
+            const std::vector<char> changed = local_search(report);
+            remove_unneeded_points(report, &changed);
+        }
+    }
+}
+
+TriangleMesh Converter::result() const {
+    // Input vertices keep their ids; points removed again leave no gap.
+    std::vector<int> new_id(P_.size(), -1);
+    int kept = 0;
+    for (size_t v = 0; v < P_.size(); ++v)
+        if (v < static_cast<size_t>(input_vertices_) || !removed_[v - input_vertices_]) new_id[v] = kept++;
+    TriangleMesh out;
+    out.V.resize(kept, 3);
+    for (size_t v = 0; v < P_.size(); ++v)
+        if (new_id[v] >= 0)
+            for (int i = 0; i < 3; ++i) out.V(new_id[v], i) = std::ldexp(P_[v][i], scale_exponent_);
+    out.F = mesh_.faces();
+    for (int f = 0; f < out.F.rows(); ++f)
+        for (int k = 0; k < 3; ++k) out.F(f, k) = new_id[out.F(f, k)];
+    return out;
+}
+
+void Converter::drain(ConversionReport& report, long long max_splits) {
+    auto last_progress = Clock::now();
+    while (true) {
+        const int e = pop();
+        if (e < 0) break;
+        if (mesh_.is_removed_edge(e) || is_delaunay(e)) continue;
+        if (is_flat(e, flat_angle_) && is_flippable(e)) {
+            if (report.flips >= flip_budget_) {
+                report.status = ConvertStatus::budget_exhausted;
+                break;
+            }
+            flip(e);
+            ++report.flips;
+        } else if (options_.method == ConvertMethod::flip) {
+            continue;  // left for the final certificate to count
+        } else if (mesh_.num_vertices() >= vertex_budget_) {
+            report.status = ConvertStatus::budget_exhausted;
+            break;
+        } else if (report.splits >= max_splits) {
+            break;
+        } else {
+            if (input_edge_[e] < 0) ++report.vertices_inside_faces;
+            split_across_strips(e, report, !trial_);
+        }
+        if (options_.progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
+            last_progress = Clock::now();
+            std::fprintf(stderr, "convert: %lld splits, %lld flips, %zu queued, %d vertices\n", report.splits,
+                         report.flips, flat_queue_.size() + physical_queue_.size(), mesh_.num_vertices());
+        }
+    }
+}
+
+bool Converter::keep_one_spoke(int into, int x, int q, ConversionReport& report) {
+    while (true) {
+        const int h = side_into(into, x);
+        std::vector<int> spokes;
+        for (int out = HalfedgeMesh::next(h); mesh_.head(out) != q; out = HalfedgeMesh::next(mesh_.twin(out)))
+            spokes.push_back(mesh_.edge(out));
+        if (spokes.size() == 1) return true;
+        const auto flippable = std::find_if(spokes.begin(), spokes.end(),
+                                            [&](int s) { return is_flat(s, flat_angle_) && is_flippable(s); });
+        if (flippable == spokes.end()) return false;
+        flip(*flippable);
+        ++report.flips;
+    }
+}
+
+int Converter::undo_split(int x, ConversionReport& report) {
+    auto [piece, other] = pieces_[x - input_vertices_];
+    if (side_into(piece, x) < 0) std::swap(piece, other);  // on a boundary line
+    const int p = other_end(piece, x), q = other_end(other, x);
+    if (!keep_one_spoke(piece, x, q, report)) return -1;
+    if (side_into(other, x) >= 0 && !keep_one_spoke(other, x, p, report)) return -1;
+    const int h = side_into(piece, x), t = mesh_.twin(h);
+    mesh_.merge(h);
+    set_removed(x - input_vertices_, 1);
+    repoint_piece(q, other, piece);
+    for (const int side : {h, t}) {
+        if (side < 0) continue;
+        push(mesh_.edge(HalfedgeMesh::next(side)));
+        push(mesh_.edge(HalfedgeMesh::prev(side)));
+    }
+    push(piece);
+    return piece;
+}
+
+void Converter::flip(int e) {
+    const Hinge k = hinge(e);
+    const int outer[4] = {mesh_.edge(HalfedgeMesh::next(k.h)), mesh_.edge(HalfedgeMesh::prev(k.h)),
+                          mesh_.edge(HalfedgeMesh::next(mesh_.twin(k.h))),
+                          mesh_.edge(HalfedgeMesh::prev(mesh_.twin(k.h)))};
+    const bool planar_quad = is_flat(e, coplanar_angle_);
+    mesh_.flip(e);
+    set_input_edge(e, -1);  // the new diagonal crosses the input faces
+    set_in_plane(e, static_cast<char>(planar_quad));
+    for (int o : outer) {
+        // A hybrid flip across a fold puts the outer sides next to faces of another plane.
+        if (!planar_quad) set_in_plane(o, 0);
+        push(o);
+    }
+}
+
+void Converter::split(int e, std::optional<double> at) {
+    const Hinge k = hinge(e);
+    const double l = dist(k.a, k.b);
+    const double t = std::clamp(at ? *at : split_distance(k, l), 0.0, l);
+    const Eigen::Vector3d x = P_[k.a] + (t / l) * (P_[k.b] - P_[k.a]);
+    const int first_new_edge = mesh_.num_edges();
+    std::vector<int> outer = {mesh_.edge(HalfedgeMesh::next(k.h)), mesh_.edge(HalfedgeMesh::prev(k.h))};
+    if (k.s >= 0) {
+        const int twin = mesh_.twin(k.h);
+        outer.push_back(mesh_.edge(HalfedgeMesh::next(twin)));
+        outer.push_back(mesh_.edge(HalfedgeMesh::prev(twin)));
+    }
+    mesh_.split(e);
+    P_.push_back(x);
+    vertex_input_edge_.push_back(input_edge_[e]);
+    removed_.push_back(0);
+    // The other half lies on the same input edge as e; the spokes inside faces, so they are
+    // flat whatever the rounding of x says (a spoke taken for a fold would be split, with
+    // a vertex inside the face, and the next spokes are as noisy: far from the origin that
+    // ran away to the vertex budget).
+    input_edge_.push_back(input_edge_[e]);
+    in_plane_.push_back(in_plane_[e]);
+    while (static_cast<int>(input_edge_.size()) < mesh_.num_edges()) {
+        input_edge_.push_back(-1);
+        in_plane_.push_back(1);
+    }
+    queued_.resize(static_cast<size_t>(mesh_.num_edges()), 0);
+    if (input_edge_[e] >= 0) {  // e keeps the half at a, the new edge the one at b
+        pieces_.push_back({e, first_new_edge});
+        repoint_piece(k.b, e, first_new_edge);
+    } else {
+        pieces_.push_back({-1, -1});
+    }
+    push(e);
+    for (int n = first_new_edge; n < mesh_.num_edges(); ++n) push(n);
+    for (int o : outer) push(o);
+}
+
+}  // namespace sdmesh::conversion
+
+namespace sdmesh {
+namespace {
+
+void check_options(const ConvertOptions& o) {
+    if (!(o.tolerance >= 0 && o.tolerance < std::numbers::pi / 2))
+        throw InvalidArgumentError("convert: tolerance must be in [0, π/2)");
+    if (!(o.max_dihedral_deg >= 0 && o.max_dihedral_deg <= 180))
+        throw InvalidArgumentError("convert: max_dihedral_deg must be in [0, 180]");
+    if (!(o.coplanar_tolerance >= 0)) throw InvalidArgumentError("convert: coplanar_tolerance must be >= 0");
+    if (o.max_vertices < 0) throw InvalidArgumentError("convert: max_vertices must be >= 0");
+    if (o.max_flips < 0) throw InvalidArgumentError("convert: max_flips must be >= 0");
+    if (o.local_search < 0) throw InvalidArgumentError("convert: local_search must be >= 0");
+    if (o.cascade_trials < 0) throw InvalidArgumentError("convert: cascade_trials must be >= 0");
+}
+
+}  // namespace
+
+ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options) {
+    const auto start = conversion::Clock::now();
+    check_options(options);
+    require_indices_in_range(mesh);
+    require_supported_extent(mesh);
+    const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
+    const MeshInfo info = validate(mesh, edges);
+    require_oriented_manifold(info, "convert");
+
+    ConversionResult result;
+    ConversionReport& report = result.report;
+    report.input_vertices = mesh.num_vertices();
+    report.input_faces = mesh.num_faces();
+    {  // the converter's working memory is released before the output is certified
+        conversion::Converter converter(mesh, edges, options);
+        converter.run(report);
+        result.mesh = converter.result();
+    }
+    report.output_vertices = result.mesh.num_vertices();
+    report.output_faces = result.mesh.num_faces();
+    report.certificate = certify(result.mesh, {.boundary = options.boundary, .tolerance = options.tolerance});
+    if (report.status != ConvertStatus::budget_exhausted && !report.certificate.self_delaunay)
+        report.status = ConvertStatus::not_certified;
+    if (options.method == ConvertMethod::flip)
+        report.unflippable_edges = report.certificate.non_delaunay_edges +
+                                   (options.boundary == BoundaryPolicy::strict ? report.certificate.boundary_obtuse_edges : 0);
+    if (options.measure_hausdorff && report.flips > 0 && options.method != ConvertMethod::split)
+        // A few samples per face: the flips change the surface by a fraction of an edge length.
+        report.hausdorff_rel =
+            hausdorff_distance(mesh, result.mesh, {.samples_per_face = 4, .max_samples = 4'000'000}).hausdorff_rel;
+    report.seconds = std::chrono::duration<double>(conversion::Clock::now() - start).count();
+    return result;
+}
+
+std::string_view to_string(ConvertStatus status) {
+    switch (status) {
+        case ConvertStatus::certified: return "certified";
+        case ConvertStatus::budget_exhausted: return "budget_exhausted";
+        case ConvertStatus::not_certified: return "not_certified";
+    }
+    return "unknown";
+}
+
+std::string_view to_string(ConvertMethod method) {
+    switch (method) {
+        case ConvertMethod::flip: return "flip";
+        case ConvertMethod::split: return "split";
+        case ConvertMethod::hybrid: return "hybrid";
+    }
+    return "unknown";
+}
+
+std::string_view to_string(SplitRule rule) {
+    return rule == SplitRule::shell ? "shell" : "interval";
+}
+
+}  // namespace sdmesh

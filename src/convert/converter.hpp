@@ -1,0 +1,678 @@
+#pragma once
+// The converter behind convert() (internal, not installed): one Converter per call, with the
+// working mesh, the split points and the queues. Its member functions are grouped by stage:
+//   convert.cpp      the loop (run, drain) and the edits of the mesh (split, flip, undo_split);
+//   placement.cpp    where a split point goes on its edge (intervals, look-ahead, shells);
+//   cascades.cpp     splits decided together: strip cuts, cascade trials, joint splits;
+//   improvement.cpp  after the loop: point removal, the fewest points per edge, local search;
+//   lower_bound.cpp  ConversionReport::added_vertices_lower_bound.
+
+#include "sdmesh/convert.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <deque>
+#include <limits>
+#include <numeric>
+#include <numbers>
+#include <optional>
+#include <queue>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "halfedge.hpp"
+#include "union_find.hpp"
+#include "sdmesh/distance.hpp"
+#include "sdmesh/error.hpp"
+#include "sdmesh/geometry.hpp"
+#include "sdmesh/validate.hpp"
+
+namespace sdmesh::conversion {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kPi = std::numbers::pi;
+// Pieces of an input edge shorter than this fraction of it, with one end at an input vertex, are
+// split on Ruppert's shells (see split_distance).
+constexpr double kShellPieceFraction = 0.25;
+// Split points next to a plane with more points than this are not removed (quadratic work).
+constexpr int kMaxPlanePoints = 2048;
+// Interval points stay this fraction of the piece away from its ends, so that piece lengths
+// stay bounded below, unless a point closer to an end keeps every physical outer side locally
+// Delaunay; then kNearEnd (0.1 % to 1 % measured alike).
+constexpr double kEndClearance = 0.1, kNearEnd = 0.003;
+// Split points at dyadic fractions of their input edge use at most this many bits (see
+// split_distance; 3 to 20 bits measured, 4-6 best).
+constexpr int kDyadicBits = 6;
+// Where a split must break a physical side, this many dyadic positions of each range are tried
+// besides the usual one (see least_cascading; 3, 8 and 20 measured: 8 about as good as 20).
+constexpr int kCascadeDyadics = 8;
+// A physical hinge's place in the queue is its length, made up to kLittleRoomFirst longer the
+// less room its halves leave for the split point, and kCleanFirst longer if a split point can
+// keep every physical outer side (measured: 0.35-0.45 best for the first, 0.1 and 0.25 0.1-0.7 %
+// more vertices, 0.5 and more cheese 12.1 -> 14.4; 0.15-0.5 alike for the second).
+constexpr double kLittleRoomFirst = 0.35, kCleanFirst = 0.3;
+// A trial of a split position follows the cascade it starts for this many splits (8 and 40
+// measured: about as good; 40 worse on couplingdown) and at most this many flips.
+constexpr long long kTrialSplits = 16, kTrialFlips = 1000;
+// No more trials are made once their splits outnumber the real ones this many times (plus an
+// eighth of the input's vertices). The corpus meshes take 0.8-7 times; trials that each ran a
+// ring of strip cuts around a cylinder took 19 times (2 cut koala's and elk's gains by half).
+constexpr long long kTrialWork = 8;
+// Local search places again at most this many split points at once: more (dense fans of
+// needles) cost time that grows with them and rarely pay (16, 32 and unlimited measured alike).
+constexpr size_t kLocalSearchPoints = 16;
+
+// fewest_points_per_edge places points where the cotangent sums of the pieces they touch are
+// at least this, so that rounding does not undo them: far from the origin (the skewed grid
+// moved by 10^6) a margin of 1e-9 lost two thirds of the points it saves near it.
+constexpr double kPlacementMargin = 1e-6;
+// ... and sweeps the edges this many times, alternately placing from either end: moving a
+// point without saving one can make room on the edges beside it.
+constexpr int kFewestPointsPasses = 4;
+// The lower bound takes an edge for broken only where its margin is below minus the
+// locally-Delaunay tolerance by more than this (rounding of the margin, ~1e-15).
+constexpr double kBoundRounding = 1e-12;
+// An input edge with a face corner below this at one end (and none at the other) is a needle of
+// a fan: all its split points follow shells around that end (see split_distance).
+constexpr double kNeedleCorner = std::numbers::pi / 180;
+// A face with a corner below this is a thin face of a strip, which a split carries its cut
+// across (see split_across_strips; 5° measured best: 3° misses couplingdown's strips, 10°
+// costs boot and koala 1-2 %), unless the corner's vertex has more such input corners than
+// kMaxStripCorners: the apex of a fan, whose needles take shells.
+constexpr double kThinCorner = 5 * std::numbers::pi / 180;
+constexpr int kMaxStripCorners = 3;
+
+// The hinge of an edge seen from halfedge h = (a -> b) with apex r, and its twin's apex s
+// (s = -1 on the boundary).
+struct Hinge {
+    int h, a, b, r, s;
+};
+
+// The items 0..count-1 grouped by key(item) in [0, keys) (-1: left out), each group in
+// increasing order (counting sort).
+class Buckets {
+public:
+    template <class Key>
+    Buckets(int keys, int count, Key key) : start_(static_cast<size_t>(keys) + 1, 0) {
+        for (int i = 0; i < count; ++i)
+            if (key(i) >= 0) ++start_[key(i) + 1];
+        for (int k = 0; k < keys; ++k) start_[k + 1] += start_[k];
+        items_.resize(static_cast<size_t>(start_[keys]));
+        std::vector<int> next(start_.begin(), start_.end() - 1);
+        for (int i = 0; i < count; ++i)
+            if (key(i) >= 0) items_[next[key(i)]++] = i;
+    }
+    std::span<const int> operator[](int key) const {
+        return {items_.data() + start_[key], static_cast<size_t>(start_[key + 1] - start_[key])};
+    }
+
+private:
+    std::vector<int> start_, items_;
+};
+
+// Lawson-style conversion on a HalfedgeMesh with positions; one instance per convert() call.
+class Converter {
+public:
+    // \pre `edges` is the edge table of the mesh, which is manifold.
+    Converter(const TriangleMesh& mesh, const EdgeTable& edges, const ConvertOptions& options)
+        : options_(options),
+          input_(mesh),
+          input_edges_(edges),
+          mesh_(mesh.F, edges.face_edge, edges.edge_halfedges, mesh.num_vertices()),
+          input_vertices_(mesh.num_vertices()),
+          flat_angle_(flat_angle(options)),
+          coplanar_angle_(options.coplanar_tolerance),
+          tan_tolerance_(std::tan(options.tolerance)) {
+        const double diagonal = bounding_box_diagonal(mesh);  // in the supported range (convert checks)
+        // The work is done at the scale of a unit diagonal, by a power of two (exact both ways):
+        // far from it, the products of lengths in the tests overflow or underflow (the bunny
+        // scaled by 1e150 took every hinge for flat and split on to its vertex budget), and any
+        // power-of-two scaling of the input gives the same output.
+        scale_exponent_ = unit_exponent(diagonal);
+        P_.resize(static_cast<size_t>(mesh.num_vertices()));
+        for (int v = 0; v < mesh.num_vertices(); ++v)
+            for (int i = 0; i < 3; ++i) P_[v][i] = std::ldexp(mesh.V(v, i), -scale_exponent_);
+        shell_unit_ = std::exp2(std::floor(std::log2(std::ldexp(diagonal, -scale_exponent_))) - 40.0);
+        input_edge_.resize(static_cast<size_t>(mesh_.num_edges()));
+        for (int e = 0; e < mesh_.num_edges(); ++e) input_edge_[e] = e;
+        in_plane_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
+        input_length_.resize(static_cast<size_t>(mesh_.num_edges()));
+        input_flat_.resize(static_cast<size_t>(mesh_.num_edges()));
+#pragma omp parallel for schedule(static)
+        for (int e = 0; e < mesh_.num_edges(); ++e) {
+            const int h = mesh_.halfedge(e);
+            input_length_[e] = distance(P_[mesh_.tail(h)], P_[mesh_.head(h)]);
+        }
+        queued_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
+    }
+
+    void run(ConversionReport& report);
+
+    TriangleMesh result() const;
+
+private:
+    // Pops until the queues are empty, a budget is reached, or the split that would make
+    // report.splits exceed max_splits.
+    void drain(ConversionReport& report, long long max_splits = std::numeric_limits<long long>::max());
+
+    // ConversionReport::added_vertices_lower_bound, from the input (before any split). Every
+    // output vertex lies on an input edge, and the apexes of a piece of a physical edge see it
+    // under angles no smaller than its input apexes do (more points only widen them). So a
+    // physical edge e that gets points has its first one within I0's bound from a, its last
+    // within the bound from b, and each physical outer side that gets none sees every point of
+    // e from outside the circle through its ends and its input apex across (its keep interval).
+    // A side whose interval misses either bound must get a point too (an implication); of two
+    // sides with disjoint intervals, one must (a clause). The bound: the edges that the
+    // non-Delaunay folds imply, transitively, plus a matching of the clauses they leave open
+    // (each needs an edge of its own). Within 0.8 % of the exact optimum of these constraints
+    // on the corpus meshes (an integer program, solved aside; experiments/README.md).
+    long long added_vertices_lower_bound() const;
+    // What a point on physical edge e asks of its physical outer sides (see
+    // added_vertices_lower_bound): bit i, side i must get a point; bit 4 + p, one of the p-th
+    // pair of sides (0-1, 0-2, 0-3, 1-2, 1-3, 2-3) must. The keep intervals propose; margins
+    // decide, at one position between the two ranges that cannot meet: a side's angle at x
+    // shrinks as x moves away from the side's end on e, a half's apex angles grow with it, so a
+    // margin broken there stays broken on the whole range beyond.
+    std::uint16_t side_requirements(int e) const;
+
+    // thin_corners_: by input vertex, its input face corners below kThinCorner.
+    void count_thin_corners();
+
+    // Splits e where split_distance says, and carries the cut on across the strips of thin faces
+    // it enters, as a loop cut: a cylinder tessellated as a ring of long faces between two rims
+    // (CAD meshes are full of them) is made Delaunay by one ring of points at one height, but
+    // points placed one by one at heights of their own broke their neighbours ever further along
+    // the strip (rims of 400 and 397 points, 199 non-Delaunay edges: 67,117 vertices added, now
+    // 797; couplingdown 8.18 -> 4.50 per non-Delaunay edge, the other corpus meshes within 0.6 %).
+    // With `look_ahead`, a split that must break a physical side is placed where a trial of the
+    // cascade it starts costs the fewest splits (see fewest_splits_after); not inside a trial.
+    // `at`: the first split's distance from its hinge's a; < 0: where split_distance says.
+    void split_across_strips(int first, ConversionReport& report, bool look_ahead, double at = -1);
+    // Of the positions (distances from the hinge's a) on e, the one whose split starts the
+    // cheapest cascade; the first of equals. Each is tried and taken back (splits_after). The
+    // scores of least_cascading see one step ahead; a trial sees how the broken sides' own
+    // splits go. Measured against the first position alone: koala 2.41 -> 2.25 vertices added
+    // per non-Delaunay edge, elk 2.33 -> 2.18, mushroom 2.39 -> 2.21, boot 2.11 -> 2.01,
+    // couplingdown 4.50 -> 3.78, nefertiti 1.70 -> 1.66, cheese 12.15 -> 11.76.
+    double fewest_splits_after(int e, const std::vector<double>& positions);
+    // The splits that splitting e at distance t from its hinge's a costs: itself with the strip
+    // cuts it carries on, then what the loop splits, followed for kTrialSplits splits (or until
+    // at_most), plus the edges the trial left to split. A trial must make the strip cuts the
+    // real split makes: without them, a split in a drum's band of 1,000 rim points looked
+    // cheapest at a height where the ring that followed did not close the strips, and the
+    // conversion ran into its vertex budget (118,018 vertices instead of one ring of 2,000).
+    // The edges queued before wait outside the trial, which is taken back.
+    long long splits_after(int e, double t, long long at_most);
+
+    // An outer side c-d of a split edge c-e, before the split.
+    struct StripSide {
+        int edge, shared, far, split_end;  // c, d, e
+    };
+    // Where the cut through the newest split point x on c-e goes on across outer side c-d: at x's
+    // fraction of the way from c (parallel to e-d, so the face's small triangle keeps its
+    // angles), if the face c-e-d is thin at c, c is no fan's apex, c-d is a fold that x broke, and
+    // the face beyond c-d is thin too, at c or d, and c-d's halves will be locally Delaunay once
+    // the cut has crossed that face as well. Nothing otherwise.
+    std::optional<double> strip_cut(const StripSide& side) const;
+
+    // Physical non-Delaunay edges that need one split point each, placed together before the
+    // queue runs. Greedy placement decides each point alone: on a terrain of valence-6 grid
+    // cells, where the non-Delaunay diagonals of neighbouring cells share outer sides, the first
+    // point takes the room a neighbour needed, and the neighbour's split then breaks a side. Here
+    // each such edge gets an interval of positions: I0 less the ends, less the positions that
+    // break a physical outer side. A side shared with another such edge's face (its partner)
+    // constrains the two points together, monotonically (the nearer a point gets to the side, the
+    // wider it sees it), so each interval is narrowed against the most permissive end of the
+    // other's until none changes; then each point is fixed in turn where the queue would put it
+    // inside its interval (sparing_neighbours), narrowing its partners'. An edge without
+    // partners, or whose interval empties, is left to the queue (planning lone edges too: 0.2 %
+    // more vertices), and so are edges next to planes (a plane's points all see its folds).
+    // Measured against the queue alone: mountain 1.52 -> 1.37 vertices added per non-Delaunay
+    // edge, a bumpy grid 1.02 -> 1.00.
+    void split_together(ConversionReport& report);
+
+    // Split points that later points made unnecessary go again. A point x between p and q on a
+    // non-flat input edge may go when the piece p-q would be locally Delaunay against every
+    // point of the planes on its two sides (the apex of a piece in a plane's Delaunay
+    // triangulation is one of them); removing a point only shrinks the angles that the other
+    // pieces see, so they stay locally Delaunay. x's spokes are flipped away until one is left
+    // on each side, the split is undone, and Lawson flips restore the planes' triangulations;
+    // anything they left non-Delaunay would be split again by the same loop. With `changed`
+    // (by input edge), only the points of the planes next to changed edges are tried first.
+    void remove_unneeded_points(ConversionReport& report, const std::vector<char>* changed = nullptr);
+
+    // Each input edge with two or more split points gets the fewest that suffice with the
+    // points of every other edge in place: from one end, each point goes as far as the piece
+    // before it stays locally Delaunay, and outside the circles where it would break a piece of
+    // the other edges of its faces. Inside an input face whose edges are all folds, the apex of
+    // a piece is the point of the face that sees it widest (its triangulation is the Delaunay
+    // triangulation of points on a triangle's boundary), so both tests read point sets, and
+    // this reach is optimal on the edge: a piece inside a locally Delaunay piece is locally
+    // Delaunay. Edges next to coplanar faces, whose planes triangulate together, are left as
+    // they are. Returns which input edges got or lost points (empty if none did).
+    std::vector<char> fewest_points_per_edge(ConversionReport& report);
+
+    // Inside a trial, writes to entries that existed before it are recorded first.
+    template <class T>
+    static void write(std::vector<T>& array, int i, T value, size_t existing, std::vector<std::pair<int, T>>* log) {
+        if (log && static_cast<size_t>(i) < existing) log->emplace_back(i, array[i]);
+        array[i] = value;
+    }
+    void set_input_edge(int e, int value) {
+        write(input_edge_, e, value, trial_ ? trial_->edges : 0, trial_ ? &trial_->input_edge : nullptr);
+    }
+    void set_in_plane(int e, char value) {
+        write(in_plane_, e, value, trial_ ? trial_->edges : 0, trial_ ? &trial_->in_plane : nullptr);
+    }
+    void set_removed(int point, char value) {
+        write(removed_, point, value, trial_ ? trial_->points - input_vertices_ : 0, trial_ ? &trial_->removed : nullptr);
+    }
+    void set_pieces(int point, std::array<int, 2> value) {
+        write(pieces_, point, value, trial_ ? trial_->points - input_vertices_ : 0, trial_ ? &trial_->pieces : nullptr);
+    }
+
+    void begin_trial() {
+        trial_.emplace();
+        trial_->points = P_.size();
+        trial_->edges = static_cast<size_t>(mesh_.num_edges());
+        mesh_.begin_trial();
+    }
+    void rollback() {
+        while (pop() >= 0) {}  // what a stopped drain left queued
+        auto undo = [](auto& array, auto& log) {
+            for (auto it = log.rbegin(); it != log.rend(); ++it) array[it->first] = it->second;
+        };
+        undo(input_edge_, trial_->input_edge), undo(in_plane_, trial_->in_plane);
+        undo(removed_, trial_->removed), undo(pieces_, trial_->pieces);
+        const size_t points = trial_->points - input_vertices_, edges = trial_->edges;
+        P_.resize(trial_->points);
+        vertex_input_edge_.resize(points), removed_.resize(points), pieces_.resize(points);
+        input_edge_.resize(edges), in_plane_.resize(edges), queued_.resize(edges);
+        mesh_.rollback();
+        trial_.reset();
+    }
+    void commit() {
+        mesh_.commit();
+        trial_.reset();
+    }
+
+    // Around each split point in turn, the split points on the (up to five) input edges of its
+    // two input faces are removed and the loop places them again, with everything else in
+    // place; the result is kept if it has fewer vertices, else taken back. Greedy placement
+    // decides each point before its neighbours exist; here each is decided again after.
+    // Returns which input edges got or lost points.
+    std::vector<char> local_search(ConversionReport& report);
+
+    int other_end(int e, int v) const {
+        const int h = mesh_.halfedge(e);
+        return mesh_.tail(h) == v ? mesh_.head(h) : mesh_.tail(h);
+    }
+    // Split point v's piece `from` became `to`.
+    void repoint_piece(int v, int from, int to) {
+        if (v < input_vertices_) return;
+        std::array<int, 2> pieces = pieces_[v - input_vertices_];
+        for (int& piece : pieces)
+            if (piece == from) piece = to;
+        set_pieces(v - input_vertices_, pieces);
+    }
+
+    // The side of edge e that runs into vertex x, -1 if it has none (a boundary edge).
+    int side_into(int e, int x) const {
+        const int h = mesh_.halfedge(e);
+        return mesh_.head(h) == x ? h : mesh_.twin(h);
+    }
+
+    // Flips the spokes of x on the side of `into` (an edge p-x) until one is left before the
+    // piece x-q; false if none of them can be flipped.
+    bool keep_one_spoke(int into, int x, int q, ConversionReport& report);
+
+    // Removes split point x and returns the edge that joins its neighbours on the input edge;
+    // -1 if its spokes could not be reduced to one per side.
+    int undo_split(int x, ConversionReport& report);
+
+    // An angle bound for dihedral tests, with its tangent: below π/2 the test needs no arctangent.
+    struct AngleBound {
+        explicit AngleBound(double radians) : angle(radians), tangent(std::tan(radians)) {}
+        double angle, tangent;
+    };
+
+    static double flat_angle(const ConvertOptions& o) {
+        switch (o.method) {
+            case ConvertMethod::flip: return kPi;  // every edge may be flipped
+            case ConvertMethod::split: return o.coplanar_tolerance;
+            case ConvertMethod::hybrid: return o.max_dihedral_deg * kPi / 180.0;
+        }
+        return 0;
+    }
+
+    Hinge hinge(int e) const {
+        const int h = mesh_.halfedge(e), t = mesh_.twin(h);
+        return {h, mesh_.tail(h), mesh_.head(h), mesh_.opposite_vertex(h), t < 0 ? -1 : mesh_.opposite_vertex(t)};
+    }
+
+    double dist(int u, int v) const { return distance(P_[u], P_[v]); }
+
+    bool is_delaunay(int e) const {
+        const Hinge k = hinge(e);
+        const double l = dist(k.a, k.b);
+        if (k.s < 0)
+            return options_.boundary == BoundaryPolicy::free ||
+                   boundary_margin(l, dist(k.a, k.r), dist(k.b, k.r)) >= -options_.tolerance;
+        const double ar = dist(k.a, k.r), br = dist(k.b, k.r), as = dist(k.a, k.s), bs = dist(k.b, k.s);
+        return is_locally_delaunay_with_tangent(l, ar, br, as, bs, tan_tolerance_);
+    }
+
+    // Interior edge known to lie inside a plane, or whose face normals differ by at most
+    // `bound` radians.
+    bool is_flat(int e, const AngleBound& bound) const {
+        if (in_plane_[e]) return true;
+        const Hinge k = hinge(e);
+        if (k.s < 0) return false;
+        const Eigen::Vector3d n1 = (P_[k.b] - P_[k.a]).cross(P_[k.r] - P_[k.a]);
+        const Eigen::Vector3d n2 = (P_[k.a] - P_[k.b]).cross(P_[k.s] - P_[k.b]);
+        const double cosine = n1.dot(n2), sine = n1.cross(n2).norm();
+        if (bound.angle < kPi / 2) return cosine > 0 && sine <= bound.tangent * cosine;
+        return std::atan2(sine, cosine) <= bound.angle;
+    }
+
+    // The new edge r-s must not exist already, and the hinge unfolded into the plane must be
+    // strictly convex at a and b, so that both new faces have positive area and keep the
+    // orientation.
+    bool is_flippable(int e) const {
+        const Hinge k = hinge(e);
+        if (k.r == k.s || mesh_.has_edge_between(k.h, k.s)) return false;
+        const double l = dist(k.a, k.b), ar = dist(k.a, k.r), br = dist(k.b, k.r), as = dist(k.a, k.s),
+                     bs = dist(k.b, k.s);
+        const double at_a = corner_angle(br, l, ar) + corner_angle(bs, l, as);
+        const double at_b = corner_angle(ar, l, br) + corner_angle(as, l, bs);
+        return at_a < kPi - 1e-9 && at_b < kPi - 1e-9;
+    }
+
+    void flip(int e);
+
+    struct Interval {
+        double lo, hi;
+    };
+
+    // A point that is to become the apex across the outer side `edge` of a hinge (a split point
+    // not made yet), in place of the vertex there now.
+    struct Across {
+        int edge;
+        Eigen::Vector3d point;
+    };
+
+    // A range of split positions and the outer sides of the hinge that stay locally Delaunay
+    // for all of it: their total weight (-1 for an empty range), and whether the physical
+    // sides are all among them.
+    struct SideChoice {
+        Interval range;
+        int weight;
+        bool keeps_physical;
+    };
+
+    // Soft constraints: each outer side of the hinge stays locally Delaunay on a half-line of
+    // positions. A physical side that breaks needs a new vertex, a flat one only a flip, so
+    // physical sides weigh double.
+    struct OuterSides {
+        Interval keeps[4];
+        int weight[4];
+        int halfedge[4];
+        int count = 0, total_weight = 0;
+        unsigned physical = 0;  // bit i: side i is physical
+
+        void add(Interval keep, bool flat, int h) {
+            keeps[count] = keep;
+            weight[count] = flat ? 1 : 2;
+            halfedge[count] = h;
+            if (!flat) physical |= 1u << count;
+            total_weight += weight[count++];
+        }
+
+        // f(range, subset) for every subset of sides that some position inside `within` keeps.
+        template <class F>
+        void for_each_choice(Interval within, F f) const {
+            if (within.lo > within.hi) return;
+            for (unsigned subset = 0; subset < (1u << count); ++subset) {
+                Interval candidate = within;
+                for (int i = 0; i < count; ++i)
+                    if (subset >> i & 1u) {
+                        candidate.lo = std::max(candidate.lo, keeps[i].lo);
+                        candidate.hi = std::min(candidate.hi, keeps[i].hi);
+                    }
+                if (candidate.lo <= candidate.hi) f(candidate, subset);
+            }
+        }
+
+        // The feasible subset of most weight (the first found) inside `within`.
+        SideChoice most_weight(Interval within) const {
+            SideChoice best{within, -1, false};
+            for_each_choice(within, [&](Interval range, unsigned subset) {
+                int total = 0;
+                for (int i = 0; i < count; ++i)
+                    if (subset >> i & 1u) total += weight[i];
+                if (total > best.weight) best = {range, total, (subset & physical) == physical};
+            });
+            return best;
+        }
+    };
+
+    // Distance from a at which to split the edge a-b (length l) of hinge k.
+    // With `alternatives`, where every position breaks a physical side, up to
+    // options_.cascade_trials positions worth a trial go there, the chosen one first; it is left
+    // empty otherwise.
+    double split_distance(const Hinge& k, double l, std::vector<double>* alternatives = nullptr) const;
+
+    // Where every position of `within` breaks a physical outer side, which one breaks costs a
+    // vertex at least; it costs more if that side's own split must break a physical side again
+    // (a cascade). Among the usual position of each choice of sides and the simplest dyadic
+    // fractions of its range, the one with the most weight kept less the broken physical sides
+    // whose split would cascade and the clean neighbours it spoils; the first of equals.
+    // Measured against the usual position of the choice of most weight: nefertiti 1.88 -> 1.76
+    // vertices added per non-Delaunay edge, boot 2.42 -> 2.22, koala 2.78 -> 2.54. With
+    // `alternatives`, the candidates to try as well (see split_distance).
+    double least_cascading(const Hinge& k, double l, const OuterSides& sides, Interval within, int on_input_edge,
+                           std::vector<double>* alternatives) const;
+
+    // The physical outer sides (bit i: side i) across which waits a physical non-Delaunay edge
+    // that cannot be split cleanly: its split will likely break a side, and if it breaks this one,
+    // one point on it serves both. Breaking them costs nothing, keeping them gains nothing.
+    // Measured against scoring them like other sides: mushroom 2.56 -> 2.47 vertices added per
+    // non-Delaunay edge, elk 2.42 -> 2.35, koala 2.46 -> 2.43, cheese 12.58 -> 12.11.
+    unsigned sides_broken_anyway(const OuterSides& sides) const;
+
+    // Whether outer side i of hinge k (halfedge `side`: 0 a-r, 1 b-r, 2 a-s, 3 b-s), broken by a
+    // split point x at distance t from k.a, could itself be split keeping its physical outer
+    // sides locally Delaunay, as split_distance would judge it with x in the mesh.
+    bool side_splits_cleanly(const Hinge& k, double l, double t, int i, int side) const;
+
+    // Whether a split point in I0 (`halves`, on a piece of length l), in its middle or near an end,
+    // keeps every physical outer side, as split_distance looks for one.
+    static bool has_clean_position(const OuterSides& sides, Interval halves, double l) {
+        return sides.most_weight(away_from_ends(halves, l, kEndClearance)).keeps_physical ||
+               sides.most_weight(away_from_ends(halves, l, kNearEnd)).keeps_physical;
+    }
+
+    // Physical non-Delaunay edges across the physical outer sides of hinge k that could be split
+    // cleanly now: (that side, the edge). A split point of k becomes their apex across the side.
+    struct CleanNeighbours {
+        std::array<std::pair<int, int>, 8> pending;
+        int count = 0;
+    };
+    CleanNeighbours clean_neighbours(const Hinge& k) const;
+    // How many of `neighbours` a split point of k at distance t from k.a leaves without a clean split.
+    int spoiled(const Hinge& k, double l, double t, const CleanNeighbours& neighbours) const;
+    // Whether physical edge e could be split keeping its physical outer sides locally Delaunay.
+    bool splits_cleanly(int e, const Across* future = nullptr) const {
+        const Hinge k = hinge(e);
+        const double l = dist(k.a, k.b);
+        return has_clean_position(outer_sides(k, l, future), delaunay_halves_interval(k, l), l);
+    }
+
+    // A split position in `range`, where every position keeps the physical outer sides of k: the
+    // usual one, unless it leaves a neighbour across a side (see clean_neighbours) without a clean
+    // split; then the first of the simplest dyadic fractions of the range that spoils fewest.
+    // Measured against the usual position: mountain 1.56 -> 1.52 vertices added per
+    // non-Delaunay edge, elk 2.44 -> 2.40, boot 2.17 -> 2.15, no corpus mesh more.
+    double sparing_neighbours(const Hinge& k, double l, Interval range, int on_input_edge) const;
+
+    // The positions of I0 (`halves`), shrunk by a little so that no half ends up exactly
+    // co-circular, at least `clearance` of the piece (length l) away from its ends.
+    static Interval away_from_ends(Interval halves, double l, double clearance) {
+        const double inset = 1e-3 * (halves.hi - halves.lo);
+        return {std::max(halves.lo + inset, clearance * l), std::min(halves.hi - inset, (1 - clearance) * l)};
+    }
+
+    // Inside a range of a choice of sides: the foot of the perpendicular from the apex with the
+    // wider angle (the spoke is then perpendicular to the edge). Else the simplest dyadic
+    // fraction of the input edge in the range: neighbouring edges of similar length then get
+    // their points at the same fractions, and the pieces line up across the faces between them
+    // (thin strips of faces need fewer points: couplingdown 10.96 -> 8.95 vertices added per
+    // non-Delaunay edge). Else the middle of the range.
+    double usual_position(const Hinge& k, double l, Interval range, int on_input_edge) const;
+
+    OuterSides outer_sides(const Hinge& k, double l, const Across* future = nullptr) const;
+    // The outer sides of hinge k as halfedges of its faces, in the order a-r, b-r, a-s, b-s
+    // (the first two only on the boundary).
+    struct OuterHalfedges {
+        std::array<int, 4> h;
+        int count = 0;
+    };
+    OuterHalfedges outer_halfedges(const Hinge& k) const;
+
+    // f(position) for the first `count` positions in `range` (distances from k.a) whose parameter
+    // along input edge ie (0 at one end, 1 at the other) is a dyadic fraction of at most
+    // kDyadicBits bits, those with fewer bits first. The fractions are the same from either end.
+    template <class F>
+    void for_each_dyadic(const Hinge& k, int ie, Interval range, int count, F f) const {
+        const int u = input_edges_.E(ie, 0), w = input_edges_.E(ie, 1);
+        const double length = input_length_[ie];
+        const Eigen::Vector3d along = (P_[w] - P_[u]) / (length * length);
+        const double ta = (P_[k.a] - P_[u]).dot(along), tb = (P_[k.b] - P_[u]).dot(along);
+        const double sign = tb > ta ? 1.0 : -1.0;  // the direction of a -> b in the parameter
+        const double from_lo = ta + sign * range.lo / length, from_hi = ta + sign * range.hi / length;
+        const double lo = std::min(from_lo, from_hi), hi = std::max(from_lo, from_hi);
+        for (int bits = 1; bits <= kDyadicBits; ++bits) {
+            const double step = std::ldexp(1.0, -bits);
+            for (double t = std::ceil(lo / step) * step; t <= hi; t += step) {
+                if (std::fmod(t / step, 2.0) == 0) continue;  // fewer bits: done already
+                f(std::clamp(sign * (t - ta) * length, range.lo, range.hi));
+                if (--count == 0) return;
+            }
+        }
+    }
+
+    // I0 of ALGORITHMS.md §3: positions x on a-b (distance from a) for which both halves are
+    // locally Delaunay; on a boundary edge (strict policy) the opposite angle must stay <= π/2.
+    Interval delaunay_halves_interval(const Hinge& k, double l) const;
+    // The same from the lengths a-r, b-r, a-s, b-s (as < 0: no s, a boundary edge).
+    static Interval halves_interval(double l, double ar, double br, double as, double bs);
+
+    // Positions x on the edge (distance from a) that keep the outer side `side` = from-apex of the
+    // hinge locally Delaunay once x is its opposite vertex. Unfolded into the plane of the face
+    // (from, to, apex): x must lie outside the circle through `from`, the apex and the vertex w
+    // across the side, i.e. at least D = 2·(c - from)·u from `from` along u = (to - from)/l.
+    // Boundary side: x must see it at an angle <= π/2 (strict policy), a circle with the side as
+    // diameter. `from_b` mirrors the result for measuring from b. `future` may stand for w.
+    Interval outer_side_interval(int side, int from, int to, double l, bool from_b,
+                                 const Across* future = nullptr) const;
+    // The same from the lengths from-apex, to-apex, from-w, apex-w (d_w < 0: a boundary side).
+    Interval side_interval(double l, double d_apex, double d_to_apex, double d_w, double d_apex_w, bool from_b) const;
+
+    // Shells around input vertex c on the edge line of hinge k: the distance from c on the
+    // coarsest grid of power-of-two multiples of the shell unit that falls in the middle third
+    // of the piece a-b (length l); returned as the distance from a.
+    double shell_distance_around(int c, const Hinge& k, double l) const;
+
+    // The end of input edge e with a corner below kNeedleCorner in one of e's input faces while
+    // the other end has none; -1 if there is no such end.
+    int needle_end(int e) const;
+
+    // Ruppert's concentric shells: around the endpoint that is an input vertex, at the
+    // power-of-two multiple of the shell unit in the middle third; the midpoint if none or both are.
+    double shell_distance(const Hinge& k, double l) const;
+
+    // Splits e at distance `at` from the tail of its halfedge, by default where split_distance says.
+    void split(int e, std::optional<double> at = std::nullopt);
+
+    // Flat candidates first (cheap flips), then physical ones, longest first.
+    // Edges are pushed whenever their hinge changes, so one that is locally Delaunay then can
+    // stay out (most are: 80 % of the pushes on the skull).
+    void push(int e) {
+        if (!queued_[e] && !is_delaunay(e)) enqueue(e, queue_key(e));
+    }
+    // -1 for a flat edge, else the physical queue's key: the length, counted longer when I0
+    // (where both halves are locally Delaunay) is a small part of the edge, and when a split
+    // point can keep every physical outer side. Among hinges of similar length, the one whose
+    // split point has the least choice goes first and the others fit around it; one that can be
+    // split cleanly is split before its neighbours' points take that away. Vertices added per
+    // non-Delaunay edge, measured against the length alone: cheese 14.76 -> 12.58, mushroom
+    // 2.84 -> 2.57, koala 2.54 -> 2.47, boot 2.22 -> 2.17.
+    double queue_key(int e) const;
+    void enqueue(int e, double key) {
+        queued_[e] = 1;
+        if (key < 0)
+            flat_queue_.push_back(e);
+        else
+            physical_queue_.emplace(key, e);
+    }
+
+    int pop() {
+        int e = -1;
+        if (!flat_queue_.empty()) {
+            e = flat_queue_.back();
+            flat_queue_.pop_back();
+        } else if (!physical_queue_.empty()) {
+            e = physical_queue_.top().second;
+            physical_queue_.pop();
+        }
+        if (e >= 0) queued_[e] = 0;
+        return e;
+    }
+
+    const ConvertOptions& options_;
+    const TriangleMesh& input_;
+    const EdgeTable& input_edges_;
+    HalfedgeMesh mesh_;
+    int input_vertices_;
+    AngleBound flat_angle_, coplanar_angle_;
+    double tan_tolerance_;  // of the locally Delaunay test
+    int scale_exponent_ = 0;  // P_ = input coordinates · 2^-scale_exponent_
+    double shell_unit_ = 1;
+    std::vector<Eigen::Vector3d> P_;
+    std::vector<int> input_edge_;  // the input edge an edge lies on, -1 inside an input face
+    // Edges whose two faces lie in one plane by construction (within the coplanar tolerance).
+    std::vector<char> in_plane_;
+    std::vector<double> input_length_;  // by input edge
+    std::vector<char> input_flat_;  // by input edge, at the coplanar tolerance
+    // By input edge: a fold not locally Delaunay in the input. Whatever the split points
+    // elsewhere, its apexes see it under angles at least the input's, so it keeps a point.
+    std::vector<char> needs_point_;
+    std::vector<int> thin_corners_;  // by input vertex, see count_thin_corners
+    std::vector<int> vertex_input_edge_;  // by split point: the input edge it lies on, -1 inside a face
+    std::vector<char> removed_;  // by split point: removed again
+    long long vertex_budget_ = 0, flip_budget_ = 0;
+    std::vector<std::array<int, 2>> pieces_;  // by split point on an input edge: its two pieces
+    // By edge: in a queue. Every edge not locally Delaunay is, but the one being split.
+    std::vector<char> queued_;
+    // The open trial of local_search(): what to take back if it does not pay.
+    struct Trial {
+        size_t points, edges;  // P_.size(), mesh_.num_edges() at its start
+        std::vector<std::pair<int, int>> input_edge;
+        std::vector<std::pair<int, char>> in_plane, removed;
+        std::vector<std::pair<int, std::array<int, 2>>> pieces;
+    };
+    std::optional<Trial> trial_;
+    std::vector<double> alternatives_;  // split_distance's, for split_across_strips
+    long long trial_splits_ = 0;  // made by trials, all taken back
+    std::vector<int> flat_queue_;
+    std::priority_queue<std::pair<double, int>> physical_queue_;
+};
+
+}  // namespace sdmesh::conversion

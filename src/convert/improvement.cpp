@@ -1,0 +1,410 @@
+// After the loop: split points removed again, the fewest points per input edge, local search.
+#include "convert/converter.hpp"
+
+namespace sdmesh::conversion {
+
+void Converter::remove_unneeded_points(ConversionReport& report, const std::vector<char>* changed) {
+    const int input_faces = static_cast<int>(input_.F.rows()), edges = input_edges_.num_edges();
+    auto faces_of = [&](int e) {
+        const int g = input_edges_.edge_halfedges(e, 1);
+        return std::array<int, 2>{input_edges_.edge_halfedges(e, 0) / 3, g < 0 ? -1 : g / 3};
+    };
+    // Planes: input faces joined across flat input edges (one face each without them).
+    const bool any_flat = std::find(input_flat_.begin(), input_flat_.end(), 1) != input_flat_.end();
+    std::vector<int> plane_of(any_flat ? input_faces : 0);  // by face: its plane's representative
+    if (any_flat) {
+        UnionFind planes(input_faces);
+        for (int e = 0; e < edges; ++e)
+            if (input_flat_[e]) planes.unite(faces_of(e)[0], faces_of(e)[1]);
+        for (int f = 0; f < input_faces; ++f) plane_of[f] = planes.find(f);
+    }
+    const Buckets plane_faces(any_flat ? input_faces : 0, any_flat ? input_faces : 0,
+                              [&](int f) { return plane_of[f]; });
+    auto for_each_face_in_plane_of = [&](int f, auto&& visit) {
+        if (!any_flat) return visit(f);
+        for (const int face : plane_faces[plane_of[f]]) visit(face);
+    };
+    // The split points on each input edge (removed ones are skipped when read).
+    const int split_points = static_cast<int>(P_.size());
+    const Buckets on_edge(edges, split_points - input_vertices_, [&](int i) { return vertex_input_edge_[i]; });
+    // Calls visit(y, input edge) for the points on the edges of the plane of face f.
+    auto for_each_point_in_plane_of = [&](int f, auto&& visit) {
+        for_each_face_in_plane_of(f, [&](int face) {
+            for (int k = 0; k < 3; ++k) {
+                const int edge = input_edges_.face_edge(face, k);
+                visit(input_.F(face, (k + 1) % 3), edge);
+                for (const int i : on_edge[edge]) visit(input_vertices_ + i, edge);
+                for (int y = split_points; y < static_cast<int>(P_.size()); ++y)  // added while removing
+                    if (vertex_input_edge_[y - input_vertices_] == edge) visit(y, edge);
+            }
+        });
+    };
+    // Points next to a plane of more than kMaxPlanePoints points stay: each try scans both
+    // planes, and a removal retries their points (the corpus's largest plane has 1,269).
+    std::vector<char> plane_too_big(any_flat ? input_faces : 0, 0);
+    if (any_flat) {
+        std::vector<int> points(input_faces, 0);
+        for (int f = 0; f < input_faces; ++f) {
+            int& n = points[plane_of[f]];
+            for (int k = 0; k < 3; ++k) n += 1 + static_cast<int>(on_edge[input_edges_.face_edge(f, k)].size());
+            if (n > kMaxPlanePoints) plane_too_big[plane_of[f]] = 1;
+        }
+    }
+    auto is_too_big = [&](int f) { return f >= 0 && any_flat && plane_too_big[plane_of[f]]; };
+    // Cotangent of the angle under which y sees p-q (+inf on their line).
+    auto cotangent = [&](int y, int p, int q) {
+        const Eigen::Vector3d a = P_[p] - P_[y], b = P_[q] - P_[y];
+        const double sine = a.cross(b).norm();
+        return sine > 0 ? a.dot(b) / sine : std::numeric_limits<double>::infinity();
+    };
+    // Cotangent of the widest angle under which a point of the plane of face f, off edge e,
+    // sees p-q.
+    auto apex_cotangent = [&](int f, int p, int q, int e) {
+        double smallest = std::numeric_limits<double>::infinity();
+        for_each_point_in_plane_of(f, [&](int y, int edge) {
+            if (edge == e || y == p || y == q || (y >= input_vertices_ && removed_[y - input_vertices_])) return;
+            smallest = std::min(smallest, cotangent(y, p, q));
+        });
+        return smallest;
+    };
+    // Every split point is tried; a removal makes the points of its two planes worth trying
+    // again, so that at the end no point can go alone.
+    std::deque<int> to_try;
+    std::vector<char> waiting(static_cast<size_t>(split_points - input_vertices_), 0);
+    auto try_later = [&](int x, int) {
+        if (x < input_vertices_ || x >= split_points || waiting[x - input_vertices_] || removed_[x - input_vertices_])
+            return;
+        waiting[x - input_vertices_] = 1;
+        to_try.push_back(x);
+    };
+    if (!changed)
+        for (int x = input_vertices_; x < split_points; ++x) try_later(x, -1);
+    else
+        for (int e = 0; e < edges; ++e)
+            if ((*changed)[e])
+                for (const int f : faces_of(e))
+                    if (f >= 0) for_each_point_in_plane_of(f, try_later);
+    while (!to_try.empty() && report.status == ConvertStatus::certified) {
+        const int x = to_try.front();
+        to_try.pop_front();
+        waiting[x - input_vertices_] = 0;
+        const int e = vertex_input_edge_[x - input_vertices_];
+        if (e < 0 || input_flat_[e] || removed_[x - input_vertices_]) continue;
+        const auto [f, g] = faces_of(e);
+        if (is_too_big(f) || is_too_big(g)) continue;
+        const int p = other_end(pieces_[x - input_vertices_][0], x), q = other_end(pieces_[x - input_vertices_][1], x);
+        // Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary. The
+        // apexes of x's piece to p, one in each plane, settle most points at once.
+        const Hinge k = hinge(pieces_[x - input_vertices_][0]);
+        const double first_apexes = k.s >= 0 ? cotangent(k.r, p, q) + cotangent(k.s, p, q)
+                                    : options_.boundary == BoundaryPolicy::strict ? cotangent(k.r, p, q)
+                                                                                 : 0.0;
+        if (!(first_apexes >= 0)) continue;
+        const double margin = g >= 0 ? apex_cotangent(f, p, q, e) + apex_cotangent(g, p, q, e)
+                             : options_.boundary == BoundaryPolicy::strict ? apex_cotangent(f, p, q, e)
+                                                                          : 0.0;
+        if (!(margin >= 0)) continue;
+        if (undo_split(x, report) >= 0) {
+            ++report.removed_points;
+            for_each_point_in_plane_of(f, try_later);
+            if (g >= 0) for_each_point_in_plane_of(g, try_later);
+        }
+        drain(report);
+    }
+}
+
+std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
+    const int edges = input_edges_.num_edges();
+    auto face_of = [&](int e, int side) {
+        const int h = input_edges_.edge_halfedges(e, side);
+        return h < 0 ? -1 : h / 3;
+    };
+    auto all_folds = [&](int f) {
+        for (int k = 0; k < 3; ++k)
+            if (input_flat_[input_edges_.face_edge(f, k)]) return false;
+        return true;
+    };
+    // The faces of e's faces' edges must all be single-face planes.
+    auto in_folds = [&](int e) {
+        for (int side = 0; side < 2; ++side)
+            if (const int f = face_of(e, side); f >= 0)
+                for (int k = 0; k < 3; ++k)
+                    for (int g_side = 0; g_side < 2; ++g_side)
+                        if (const int g = face_of(input_edges_.face_edge(f, k), g_side); g >= 0 && !all_folds(g))
+                            return false;
+        return true;
+    };
+    std::vector<int> count(static_cast<size_t>(edges), 0), candidates;
+    for (size_t y = input_vertices_; y < P_.size(); ++y)
+        if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0 && !removed_[y - input_vertices_])
+            ++count[ie];
+    for (int e = 0; e < edges; ++e)
+        if (count[e] >= 2 && !input_flat_[e] && in_folds(e)) candidates.push_back(e);
+    if (candidates.empty()) return {};
+    std::vector<std::vector<int>> on_edge(static_cast<size_t>(edges));
+    auto index_points = [&](size_t from) {
+        for (size_t y = from; y < P_.size(); ++y)
+            if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0 && !removed_[y - input_vertices_])
+                on_edge[ie].push_back(static_cast<int>(y));
+    };
+    index_points(static_cast<size_t>(input_vertices_));
+    std::vector<Eigen::Vector3d> points[2], others;
+    std::vector<Eigen::Vector2d> unfolded[2];
+    // The corners of face f and the points on its edges but e.
+    auto gather = [&](int f, int e, std::vector<Eigen::Vector3d>& out) {
+        out.clear();
+        for (int k = 0; k < 3; ++k) {
+            out.push_back(P_[input_.F(f, k)]);
+            if (const int g = input_edges_.face_edge(f, k); g != e)
+                for (const int y : on_edge[g])
+                    if (!removed_[y - input_vertices_]) out.push_back(P_[y]);
+        }
+    };
+    // Cotangent of the widest angle under which a point of `face` sees u-v (+inf for none).
+    auto apex_cotangent = [](const std::vector<Eigen::Vector3d>& face, const Eigen::Vector3d& u,
+                             const Eigen::Vector3d& v) {
+        double smallest = std::numeric_limits<double>::infinity();
+        for (const Eigen::Vector3d& p : face) {
+            const Eigen::Vector3d a = u - p, b = v - p;
+            const double sine = a.cross(b).norm();
+            if (sine > 0) smallest = std::min(smallest, a.dot(b) / sine);
+        }
+        return smallest;
+    };
+    const bool strict = options_.boundary == BoundaryPolicy::strict;
+    std::vector<char> changed(static_cast<size_t>(edges), 0);
+    std::vector<std::pair<double, double>> forbidden;
+    std::vector<double> placed;
+    std::vector<int> chain;
+    // The pieces of input edge g in order from its first endpoint, as point ids.
+    auto pieces_of = [&](int g) {
+        chain.assign(on_edge[g].begin(), on_edge[g].end());
+        std::erase_if(chain, [&](int y) { return removed_[y - input_vertices_] != 0; });
+        const Eigen::Vector3d& start = P_[input_edges_.E(g, 0)];
+        std::sort(chain.begin(), chain.end(),
+                  [&](int p, int q) { return (P_[p] - start).squaredNorm() < (P_[q] - start).squaredNorm(); });
+        chain.insert(chain.begin(), input_edges_.E(g, 0));
+        chain.push_back(input_edges_.E(g, 1));
+    };
+    // The distances from E(e, 0) of the fewest points e needs, placed from E(e, `from`);
+    // none if that is more than it has.
+    auto fewest = [&](int e, int from) -> std::optional<std::vector<double>> {
+        const int a = input_edges_.E(e, from), b = input_edges_.E(e, 1 - from);
+        const Eigen::Vector3d& A = P_[a];
+        const double l = distance(A, P_[b]);
+        const Eigen::Vector3d along = (P_[b] - A) / l;
+        const int sides = face_of(e, 1) < 0 ? 1 : 2;
+        forbidden.clear();
+        for (int side = 0; side < sides; ++side) {
+            const int f = face_of(e, side);
+            gather(f, e, points[side]);
+            for (int k = 0; k < 3; ++k) {
+                const int g = input_edges_.face_edge(f, k);
+                if (g == e) continue;
+                const int across = face_of(g, 0) == f ? face_of(g, 1) : face_of(g, 0);
+                if (across < 0 && !strict) continue;
+                if (across >= 0) gather(across, g, others);
+                const Eigen::Vector3d& w = P_[input_.F(f, k)];  // the corner of f off g, on e
+                pieces_of(g);
+                for (size_t j = 0; j + 1 < chain.size(); ++j) {
+                    const Eigen::Vector3d &u = P_[chain[j]], &v = P_[chain[j + 1]];
+                    // x on e breaks u-v where it sees it under a cotangent below c: inside
+                    // the circle through u and v on w's side whose inscribed angle has it.
+                    const double c = kPlacementMargin - (across < 0 ? 0.0 : apex_cotangent(others, u, v));
+                    const Eigen::Vector3d middle = (u + v) / 2, chord = v - u;
+                    Eigen::Vector3d normal = w - middle;
+                    normal -= normal.dot(chord) / chord.squaredNorm() * chord;
+                    const double half = chord.norm() / 2;
+                    const Eigen::Vector3d center = middle + normal.normalized() * (half * c);
+                    const double t0 = (center - A).dot(along);
+                    const double room = half * half * (1 + c * c) - ((center - A).squaredNorm() - t0 * t0);
+                    if (room > 0) forbidden.emplace_back(t0 - std::sqrt(room), t0 + std::sqrt(room));
+                }
+            }
+        }
+        std::sort(forbidden.begin(), forbidden.end());
+        // Each face's points unfolded: distance along e from a, and from e's line.
+        for (int side = 0; side < sides; ++side) {
+            unfolded[side].clear();
+            for (const Eigen::Vector3d& p : points[side])
+                unfolded[side].emplace_back((p - A).dot(along), (p - A).cross(along).norm());
+        }
+        // The piece from s to t is locally Delaunay against both faces' points, with a margin.
+        auto delaunay = [&](double s, double t) {
+            const Eigen::Vector3d u = A + s * along, v = A + t * along;
+            if (sides == 1) return !strict || apex_cotangent(points[0], u, v) >= kPlacementMargin;
+            return apex_cotangent(points[0], u, v) + apex_cotangent(points[1], u, v) >= kPlacementMargin;
+        };
+        // Where the piece from s stops being locally Delaunay. Across e, p and q (at heights
+        // p.y and -q.y) see s-t under angles summing to π where q lies on the circle through
+        // s, t and p: (q.x - s)(q.x - t) + q.y² + κ((p.x - s)(p.x - t) + p.y²) = 0, κ = q.y / p.y,
+        // linear in t. On a strict boundary p sees it under π/2 where κ = 0 and q = p.
+        auto reach = [&](double s) {
+            double t = std::numeric_limits<double>::infinity();
+            auto bound = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q, double kappa) {
+                const double slope = (q.x() - s) + kappa * (p.x() - s);
+                const double rest = q.x() * (q.x() - s) + q.y() * q.y() + kappa * (p.x() * (p.x() - s) + p.y() * p.y());
+                if (slope > 0) t = std::min(t, rest / slope);
+            };
+            if (sides == 1) {
+                if (strict)
+                    for (const Eigen::Vector2d& p : unfolded[0]) bound(p, p, 0);
+            } else {
+                for (const Eigen::Vector2d& p : unfolded[0])
+                    if (p.y() > 0)
+                        for (const Eigen::Vector2d& q : unfolded[1]) bound(p, q, q.y() / p.y());
+            }
+            return t;
+        };
+        const size_t has = on_edge[e].size();
+        placed.clear();
+        for (double s = 0; !delaunay(s, l);) {
+            if (placed.size() + 1 > has) return std::nullopt;
+            // Just short of the reach, where the margin holds (else where bisection finds it).
+            double x = std::min(s + (reach(s) - s) * (1 - kPlacementMargin), l * (1 - kNearEnd));
+            if (!delaunay(s, x)) {
+                double beyond = x;
+                x = s;
+                for (int i = 0; i < 50; ++i) {
+                    const double t = (x + beyond) / 2;
+                    (delaunay(s, t) ? x : beyond) = t;
+                }
+            }
+            for (auto it = forbidden.rbegin(); it != forbidden.rend(); ++it)
+                if (it->first < x && x < it->second) x = it->first;  // by lo, downwards: x only moves down
+            if (x < s + kNearEnd * l) return std::nullopt;
+            placed.push_back(x);
+            s = x;
+        }
+        if (from == 1) {
+            for (double& t : placed) t = l - t;
+            std::reverse(placed.begin(), placed.end());
+        }
+        return placed;
+    };
+    for (int pass = 0; pass < kFewestPointsPasses; ++pass) {
+        for (const int e : candidates) {
+            if (report.status != ConvertStatus::certified) break;
+            std::erase_if(on_edge[e], [&](int y) { return removed_[y - input_vertices_] != 0; });
+            if (on_edge[e].size() < 2) continue;
+            const auto positions = fewest(e, pass % 2);
+            if (!positions) continue;
+            const std::vector<int> old_points = on_edge[e];
+            if (positions->size() == old_points.size() && std::all_of(old_points.begin(), old_points.end(), [&](int y) {
+                    return std::any_of(positions->begin(), positions->end(), [&](double t) {
+                        return std::abs(distance(P_[input_edges_.E(e, 0)], P_[y]) - t) <= 1e-12 * input_length_[e];
+                    });
+                }))
+                continue;  // where they are
+            if (mesh_.num_vertices() + static_cast<long long>(positions->size()) > vertex_budget_) continue;
+            const ConversionReport before = report;
+            begin_trial();
+            int whole = -1;
+            for (const int y : old_points) {
+                whole = undo_split(y, report);
+                if (whole < 0) break;
+                ++report.removed_points;
+            }
+            if (whole >= 0) {
+                // Split the rest of e, from a's end, at each position in turn.
+                int rest = whole, near = input_edges_.E(e, 0);
+                double done = 0;
+                for (const double t : *positions) {
+                    const Hinge k = hinge(rest);
+                    const bool from_near = k.a == near;
+                    split(rest, from_near ? t - done : dist(k.a, k.b) - (t - done));
+                    ++report.splits;
+                    near = static_cast<int>(P_.size()) - 1;
+                    rest = pieces_[near - input_vertices_][from_near ? 1 : 0];
+                    done = t;
+                }
+                // A drain that has to split stops one split beyond as many as it took.
+                drain(report, before.splits + static_cast<long long>(old_points.size()) + 1);
+            }
+            const long long added = report.splits - report.removed_points;
+            if (whole >= 0 && report.status == ConvertStatus::certified && report.vertices_inside_faces == 0 &&
+                added <= before.splits - before.removed_points) {
+                const size_t first_new = trial_->points;
+                commit();
+                changed[e] = 1;
+                for (size_t y = first_new; y < P_.size(); ++y)
+                    if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0) changed[ie] = 1;
+                on_edge[e].clear();
+                index_points(first_new);
+                report.fewest_points_saved += before.splits - before.removed_points - added;
+                continue;
+            }
+            rollback();
+            report = before;
+        }
+    }
+    if (std::find(changed.begin(), changed.end(), 1) == changed.end()) return {};
+    return changed;
+}
+
+std::vector<char> Converter::local_search(ConversionReport& report) {
+    // The split points on each input edge; ids taken back by a rollback may linger.
+    std::vector<std::vector<int>> on_edge(static_cast<size_t>(input_edges_.num_edges()));
+    size_t indexed = static_cast<size_t>(input_vertices_);
+    std::vector<int> edges, victims;
+    std::vector<char> changed(on_edge.size(), 0);
+    for (int pass = 0; pass < options_.local_search; ++pass) {
+        const int points = static_cast<int>(P_.size());
+        for (int x = input_vertices_; x < points && report.status == ConvertStatus::certified; ++x) {
+            if (x >= static_cast<int>(P_.size()) || removed_[x - input_vertices_]) continue;
+            const int e = vertex_input_edge_[x - input_vertices_];
+            if (e < 0 || input_flat_[e]) continue;
+            for (; indexed < P_.size(); ++indexed)
+                if (const int ie = vertex_input_edge_[indexed - input_vertices_]; ie >= 0)
+                    on_edge[ie].push_back(static_cast<int>(indexed));
+            edges.assign(1, e);
+            for (int side = 0; side < 2; ++side)
+                if (const int h = input_edges_.edge_halfedges(e, side); h >= 0)
+                    for (int k = 0; k < 3; ++k) edges.push_back(input_edges_.face_edge(h / 3, k));
+            std::sort(edges.begin(), edges.end());
+            edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+            victims.clear();
+            for (const int ie : edges)
+                for (const int y : on_edge[ie])
+                    if (y < static_cast<int>(P_.size()) && vertex_input_edge_[y - input_vertices_] == ie &&
+                        !removed_[y - input_vertices_])
+                        victims.push_back(y);
+            std::sort(victims.begin(), victims.end());
+            victims.erase(std::unique(victims.begin(), victims.end()), victims.end());
+            if (victims.size() > kLocalSearchPoints) continue;
+            // A move saves nothing if each point it takes is the one an edge must keep.
+            int kept_anyway = 0;
+            for (const int ie : edges)
+                kept_anyway += needs_point_[ie] && std::any_of(victims.begin(), victims.end(), [&](int y) {
+                    return vertex_input_edge_[y - input_vertices_] == ie;
+                });
+            if (static_cast<int>(victims.size()) <= kept_anyway) continue;
+            const ConversionReport before = report;
+            begin_trial();
+            for (const int y : victims) {
+                if (undo_split(y, report) < 0) break;
+                ++report.removed_points;
+            }
+            // It pays only with fewer points than it took: stop before as many are placed.
+            drain(report, before.splits + (report.removed_points - before.removed_points));
+            const long long added = report.splits - report.removed_points;
+            if (report.status == ConvertStatus::certified && report.vertices_inside_faces == 0 &&
+                added < before.splits - before.removed_points) {
+                for (const int ie : edges) changed[ie] = 1;
+                for (size_t y = trial_->points; y < P_.size(); ++y)
+                    if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0) changed[ie] = 1;
+                commit();
+                report.local_search_saved += before.splits - before.removed_points - added;
+                continue;
+            }
+            const bool out_of_budget = report.status == ConvertStatus::budget_exhausted;
+            rollback();
+            report = before;
+            indexed = std::min(indexed, P_.size());
+            if (out_of_budget) return changed;  // the next moves would run out too; the mesh is as before
+        }
+    }
+    return changed;
+}
+
+}  // namespace sdmesh::conversion

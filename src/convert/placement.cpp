@@ -1,0 +1,318 @@
+// Where a split point goes on its edge: the interval rule (ALGORITHMS.md §3) with the look-ahead
+// of least_cascading, and the shells around input vertices.
+#include "convert/converter.hpp"
+
+namespace sdmesh::conversion {
+
+double Converter::split_distance(const Hinge& k, double l, std::vector<double>* alternatives) const {
+    if (alternatives) alternatives->clear();
+    const int on_input_edge = input_edge_[mesh_.edge(k.h)];
+    // The needles of a fan (a cone's, say) meet at their apex at tiny angles, and their other
+    // ends lie anywhere: split points at the same distances from the apex, ignoring I0, make
+    // rings that close. Interval points (or shells from either end) left rings out of step
+    // that marched along the needles: a 90-needle cone took 51,328 vertices, 180 needles
+    // more than the vertex budget; now 4,150 and 14,043.
+    if (const int apex = on_input_edge >= 0 ? needle_end(on_input_edge) : -1; apex >= 0)
+        return shell_distance_around(apex, k, l);
+    if (options_.split_rule == SplitRule::shell) return shell_distance(k, l);
+    // Short pieces that end at an input vertex follow the shells, unless an interval point
+    // keeps every physical outer side locally Delaunay: two input edges meeting at a small
+    // angle would otherwise split each other ever finer. Longer ones take the interval rule,
+    // which adds fewer vertices (a quarter of the input edge: measured on the corpus,
+    // shorter thresholds gain nothing more).
+    const bool near_input_vertex =
+        (k.a < input_vertices_) != (k.b < input_vertices_) &&
+        (on_input_edge < 0 || l < kShellPieceFraction * input_length_[on_input_edge]);
+    // Hard constraint: I0, where both halves are locally Delaunay.
+    const Interval halves = delaunay_halves_interval(k, l);
+    auto away_from_ends = [&](double clearance) { return Converter::away_from_ends(halves, l, clearance); };
+    const OuterSides sides = outer_sides(k, l);
+    const SideChoice best = sides.most_weight(away_from_ends(kEndClearance));
+    if (best.weight < sides.total_weight) {
+        // A point near an end can keep every physical side where the piece's middle cannot:
+        // the two sides at that end see it under about π minus the faces' corners there
+        // (wide ones can bear that), the far sides much as they saw the end. It then costs no
+        // vertex beyond itself: cheese 19.3 -> 14.7 vertices added per non-Delaunay edge,
+        // no corpus mesh more.
+        const SideChoice near_end = sides.most_weight(away_from_ends(kNearEnd));
+        if (near_end.keeps_physical && near_end.weight > best.weight)
+            return 0.5 * (near_end.range.lo + near_end.range.hi);
+    }
+    if (near_input_vertex && !best.keeps_physical) return shell_distance(k, l);
+    if (best.weight < 0) return 0.5 * l;
+    if (!best.keeps_physical)
+        return least_cascading(k, l, sides, away_from_ends(kEndClearance), on_input_edge, alternatives);
+    return sparing_neighbours(k, l, best.range, on_input_edge);
+}
+
+double Converter::least_cascading(const Hinge& k, double l, const OuterSides& sides, Interval within, int on_input_edge,
+                       std::vector<double>* alternatives) const {
+    // The candidates, in order, without repeats: up to 16 choices of the 4 sides.
+    constexpr int kMost = 16 * (1 + kCascadeDyadics);
+    std::array<double, kMost> positions;
+    int candidates = 0;
+    auto candidate = [&](double t) {
+        if (std::find(positions.begin(), positions.begin() + candidates, t) == positions.begin() + candidates)
+            positions[candidates++] = t;
+    };
+    sides.for_each_choice(within, [&](Interval range, unsigned) { candidate(usual_position(k, l, range, on_input_edge)); });
+    if (on_input_edge >= 0)
+        sides.for_each_choice(within, [&](Interval range, unsigned) {
+            for_each_dyadic(k, on_input_edge, range, kCascadeDyadics, candidate);
+        });
+    std::array<int, kMost> kept;  // by candidate: the weight of the sides it keeps
+    int best = -1, best_score = std::numeric_limits<int>::min();
+    const CleanNeighbours neighbours = clean_neighbours(k);
+    const unsigned shared = sides_broken_anyway(sides);
+    for (int c = 0; c < candidates; ++c) {
+        const double t = positions[c];
+        int score = 0;
+        unsigned broken = 0;  // physical sides
+        for (int i = 0; i < sides.count; ++i) {
+            if ((t >= sides.keeps[i].lo && t <= sides.keeps[i].hi) || (shared >> i & 1u))
+                score += sides.weight[i];
+            else if (sides.physical >> i & 1u)
+                broken |= 1u << i;
+        }
+        kept[c] = score;
+        for (int i = 0; i < sides.count && score > best_score; ++i)
+            if ((broken >> i & 1u) && !side_splits_cleanly(k, l, t, i, sides.halfedge[i])) --score;
+        if (score > best_score) score -= spoiled(k, l, t, neighbours);
+        if (score > best_score) best_score = score, best = c;
+    }
+    if (best < 0) return 0.5 * l;
+    if (alternatives) {
+        // The winner, then the others by the weight they keep (ranking them by their
+        // complete scores instead costs their look-ahead and measured alike).
+        std::array<int, kMost> order;
+        std::iota(order.begin(), order.begin() + candidates, 0);
+        std::stable_sort(order.begin(), order.begin() + candidates, [&](int x, int y) { return kept[x] > kept[y]; });
+        alternatives->push_back(positions[best]);
+        for (int i = 0; i < candidates && static_cast<int>(alternatives->size()) < options_.cascade_trials; ++i)
+            if (order[i] != best) alternatives->push_back(positions[order[i]]);
+    }
+    return positions[best];
+}
+
+unsigned Converter::sides_broken_anyway(const OuterSides& sides) const {
+    unsigned found = 0;
+    for (int i = 0; i < sides.count; ++i) {
+        const int across = mesh_.twin(sides.halfedge[i]);
+        if (!(sides.physical >> i & 1u) || across < 0) continue;
+        for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)}) {
+            const int e = mesh_.edge(g);
+            if (queued_[e] && !is_flat(e, flat_angle_) && !is_delaunay(e) && !splits_cleanly(e)) found |= 1u << i;
+        }
+    }
+    return found;
+}
+
+bool Converter::side_splits_cleanly(const Hinge& k, double l, double t, int i, int side) const {
+    const Eigen::Vector3d x = P_[k.a] + (t / l) * (P_[k.b] - P_[k.a]);
+    auto to_x = [&](int u) { return distance(x, P_[u]); };
+    // The side's hinge after the split: end-apex with x on one side and w across.
+    const int end = i % 2 == 0 ? k.a : k.b, apex = i < 2 ? k.r : k.s;
+    const int far_apex = i < 2 ? k.s : k.r, far_end = end == k.a ? k.b : k.a;
+    const double length = dist(end, apex), end_x = to_x(end), apex_x = to_x(apex);
+    OuterSides sides;
+    // The half end-x of the split edge, and the spoke apex-x inside the face.
+    sides.add(far_apex < 0 ? side_interval(length, end_x, apex_x, -1, -1, false)
+                           : side_interval(length, end_x, apex_x, dist(end, far_apex), to_x(far_apex), false),
+              is_flat(mesh_.edge(k.h), flat_angle_), -1);
+    sides.add(side_interval(length, apex_x, end_x, dist(apex, far_end), to_x(far_end), true), true, -1);
+    const int across = mesh_.twin(side);
+    Interval halves = halves_interval(length, end_x, apex_x, -1, -1);
+    if (across >= 0) {
+        const int w = mesh_.opposite_vertex(across);
+        halves = halves_interval(length, end_x, apex_x, dist(end, w), dist(apex, w));
+        for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)}) {
+            const bool at_end = mesh_.tail(g) == end || mesh_.head(g) == end;
+            const int from = at_end ? end : apex, to = at_end ? apex : end;
+            const int beyond = mesh_.twin(g) < 0 ? -1 : mesh_.opposite_vertex(mesh_.twin(g));
+            sides.add(beyond < 0 ? side_interval(length, dist(from, w), dist(to, w), -1, -1, !at_end)
+                                 : side_interval(length, dist(from, w), dist(to, w), dist(from, beyond),
+                                                 dist(w, beyond), !at_end),
+                      is_flat(mesh_.edge(g), flat_angle_), g);
+        }
+    }
+    return has_clean_position(sides, halves, length);
+}
+
+Converter::CleanNeighbours Converter::clean_neighbours(const Hinge& k) const {
+    CleanNeighbours found;
+    for (const int h : {k.h, mesh_.twin(k.h)}) {
+        if (h < 0) continue;
+        for (const int side : {HalfedgeMesh::next(h), HalfedgeMesh::prev(h)}) {
+            const int across = mesh_.twin(side);
+            if (across < 0) continue;
+            for (const int g : {HalfedgeMesh::next(across), HalfedgeMesh::prev(across)}) {
+                const int e = mesh_.edge(g);
+                if (queued_[e] && !is_flat(e, flat_angle_) && !is_delaunay(e) &&
+                    !is_flat(mesh_.edge(side), flat_angle_) && splits_cleanly(e))
+                    found.pending[found.count++] = {mesh_.edge(side), e};
+            }
+        }
+    }
+    return found;
+}
+
+int Converter::spoiled(const Hinge& k, double l, double t, const CleanNeighbours& neighbours) const {
+    const Eigen::Vector3d x = P_[k.a] + (t / l) * (P_[k.b] - P_[k.a]);
+    int count = 0;
+    for (int i = 0; i < neighbours.count; ++i) {
+        const Across future{neighbours.pending[i].first, x};
+        count += !splits_cleanly(neighbours.pending[i].second, &future);
+    }
+    return count;
+}
+
+double Converter::sparing_neighbours(const Hinge& k, double l, Interval range, int on_input_edge) const {
+    double chosen = usual_position(k, l, range, on_input_edge);
+    const CleanNeighbours neighbours = clean_neighbours(k);
+    if (neighbours.count == 0) return chosen;
+    int fewest = spoiled(k, l, chosen, neighbours);
+    if (fewest > 0 && on_input_edge >= 0)
+        for_each_dyadic(k, on_input_edge, range, kCascadeDyadics, [&](double t) {
+            if (fewest == 0) return;
+            if (const int count = spoiled(k, l, t, neighbours); count < fewest) fewest = count, chosen = t;
+        });
+    return chosen;
+}
+
+double Converter::usual_position(const Hinge& k, double l, Interval range, int on_input_edge) const {
+    const double ar = dist(k.a, k.r), br = dist(k.b, k.r);
+    const int apex = k.s >= 0 && dist(k.a, k.s) + dist(k.b, k.s) < ar + br ? k.s : k.r;
+    const double foot = (P_[apex] - P_[k.a]).dot(P_[k.b] - P_[k.a]) / l;
+    if (foot >= range.lo && foot <= range.hi) return foot;
+    double dyadic = -1;
+    if (on_input_edge >= 0) for_each_dyadic(k, on_input_edge, range, 1, [&](double t) { dyadic = t; });
+    return dyadic >= 0 ? dyadic : 0.5 * (range.lo + range.hi);
+}
+
+Converter::OuterSides Converter::outer_sides(const Hinge& k, double l, const Across* future) const {
+    OuterSides sides;
+    const OuterHalfedges outer = outer_halfedges(k);
+    for (int i = 0; i < outer.count; ++i) {
+        const int side = outer.h[i];
+        const bool from_b = i % 2 == 1;
+        sides.add(outer_side_interval(side, from_b ? k.b : k.a, from_b ? k.a : k.b, l, from_b, future),
+                  is_flat(mesh_.edge(side), flat_angle_), side);
+    }
+    return sides;
+}
+
+Converter::OuterHalfedges Converter::outer_halfedges(const Hinge& k) const {
+    OuterHalfedges outer;
+    for (const int h : {k.h, mesh_.twin(k.h)}) {
+        if (h < 0) continue;
+        outer.h[outer.count++] = h == k.h ? HalfedgeMesh::prev(h) : HalfedgeMesh::next(h);  // side a-apex
+        outer.h[outer.count++] = h == k.h ? HalfedgeMesh::next(h) : HalfedgeMesh::prev(h);  // side b-apex
+    }
+    return outer;
+}
+
+Converter::Interval Converter::delaunay_halves_interval(const Hinge& k, double l) const {
+    return k.s < 0 ? halves_interval(l, dist(k.a, k.r), dist(k.b, k.r), -1, -1)
+                   : halves_interval(l, dist(k.a, k.r), dist(k.b, k.r), dist(k.a, k.s), dist(k.b, k.s));
+}
+
+Converter::Interval Converter::halves_interval(double l, double ar, double br, double as, double bs) {
+    const double theta_a = corner_angle(br, l, ar), theta_b = corner_angle(ar, l, br);
+    Interval range{0, l};
+    if (as < 0) {
+        if (std::cos(theta_a) > 0) range.hi = std::min(range.hi, ar / std::cos(theta_a));
+        if (std::cos(theta_b) > 0) range.lo = std::max(range.lo, l - br / std::cos(theta_b));
+        return range;
+    }
+    const double phi_a = corner_angle(bs, l, as), phi_b = corner_angle(as, l, bs);
+    // Second intersection of the circle through a (b), r, s with the edge line.
+    if (theta_a + phi_a < kPi)
+        range.hi = std::min(range.hi, (ar * std::sin(phi_a) + as * std::sin(theta_a)) / std::sin(theta_a + phi_a));
+    if (theta_b + phi_b < kPi)
+        range.lo = std::max(range.lo, l - (br * std::sin(phi_b) + bs * std::sin(theta_b)) / std::sin(theta_b + phi_b));
+    return range;
+}
+
+Converter::Interval Converter::outer_side_interval(int side, int from, int to, double l, bool from_b,
+                             const Across* future) const {
+    const int apex = mesh_.tail(side) == from ? mesh_.head(side) : mesh_.tail(side);
+    const int across = mesh_.twin(side);
+    if (across < 0) return side_interval(l, dist(from, apex), dist(to, apex), -1, -1, from_b);
+    if (future && future->edge == mesh_.edge(side))
+        return side_interval(l, dist(from, apex), dist(to, apex), distance(P_[from], future->point),
+                             distance(P_[apex], future->point), from_b);
+    const int w = mesh_.opposite_vertex(across);
+    return side_interval(l, dist(from, apex), dist(to, apex), dist(from, w), dist(apex, w), from_b);
+}
+
+Converter::Interval Converter::side_interval(double l, double d_apex, double d_to_apex, double d_w, double d_apex_w,
+                                             bool from_b) const {
+    const double angle = corner_angle(d_to_apex, l, d_apex);  // at `from`, between to and apex
+    double reach = 0;  // D
+    if (d_w < 0) {
+        if (options_.boundary == BoundaryPolicy::free) return {0, l};
+        reach = d_apex * std::cos(angle);
+    } else {
+        const double beyond = corner_angle(d_apex_w, d_apex, d_w);  // at `from`, apex to w
+        const Eigen::Vector2d r = d_apex * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+        const Eigen::Vector2d q = d_w * Eigen::Vector2d(std::cos(angle + beyond), std::sin(angle + beyond));
+        const double det = 2 * (r.x() * q.y() - r.y() * q.x());
+        if (std::abs(det) <= 1e-14 * d_apex * d_w) return {0, l};  // circle degenerates to a line
+        const double cx = (r.squaredNorm() * q.y() - q.squaredNorm() * r.y()) / det;
+        reach = 2 * cx;
+    }
+    if (!(reach > 0)) return {0, l};
+    return from_b ? Interval{0, l - reach} : Interval{reach, l};
+}
+
+double Converter::shell_distance_around(int c, const Hinge& k, double l) const {
+    const double from_a = dist(c, k.a), from_b = dist(c, k.b);
+    const double lo = std::min(from_a, from_b) + l / 3, hi = lo + l / 3;
+    for (double step = shell_unit_ * std::exp2(std::floor(std::log2(hi / shell_unit_))); step >= shell_unit_;
+         step *= 0.5) {
+        const double d = std::ceil(lo / step) * step;
+        if (d <= hi) return std::abs(d - from_a);
+    }
+    return 0.5 * l;
+}
+
+int Converter::needle_end(int e) const {
+    const int a = input_edges_.E(e, 0), b = input_edges_.E(e, 1);
+    const double l = input_length_[e];
+    static const double tangent = std::tan(kNeedleCorner);
+    // The corner between sides b and c opposite `opposite` is below kNeedleCorner: its
+    // tangent, 4·area over the cosine numerator, is (no arctangent for 2.4M edges).
+    auto needle_corner = [&](double opposite, double b_side, double c_side) {
+        const double cosine = cosine_numerator(opposite, b_side, c_side);
+        return cosine > 0 && 4.0 * triangle_area(opposite, b_side, c_side) < tangent * cosine;
+    };
+    bool at_a = false, at_b = false;
+    for (const int side : {input_edges_.edge_halfedges(e, 0), input_edges_.edge_halfedges(e, 1)}) {
+        if (side < 0) continue;
+        const int r = input_.F(side / 3, side % 3);  // halfedge 3f + k lies opposite corner k
+        const double ar = dist(a, r), br = dist(b, r);
+        at_a = at_a || needle_corner(br, l, ar);
+        at_b = at_b || needle_corner(ar, l, br);
+    }
+    if (at_a == at_b) return -1;
+    return at_a ? a : b;
+}
+
+double Converter::shell_distance(const Hinge& k, double l) const {
+    const bool a_input = k.a < input_vertices_, b_input = k.b < input_vertices_;
+    if (a_input == b_input) return 0.5 * l;
+    return shell_distance_around(a_input ? k.a : k.b, k, l);
+}
+
+double Converter::queue_key(int e) const {
+    if (is_flat(e, flat_angle_)) return -1;
+    const Hinge k = hinge(e);
+    const double l = dist(k.a, k.b);
+    const Interval halves = delaunay_halves_interval(k, l);
+    // 0 for an empty I0, and for degenerate hinges (NaN bounds): keys must stay ordered.
+    const double room = halves.hi > halves.lo ? std::min((halves.hi - halves.lo) / l, 1.0) : 0.0;
+    const bool clean = outer_sides(k, l).most_weight(away_from_ends(halves, l, kEndClearance)).keeps_physical;
+    return l * (1 + kLittleRoomFirst * (1 - room) + (clean ? kCleanFirst : 0));
+}
+
+}  // namespace sdmesh::conversion
