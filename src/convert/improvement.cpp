@@ -272,7 +272,7 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
             }
             for (auto it = forbidden.rbegin(); it != forbidden.rend(); ++it)
                 if (it->first < x && x < it->second) x = it->first;  // by lo, downwards: x only moves down
-            if (x < s + kNearEnd * l) return std::nullopt;
+            if (!(x >= s + kNearEnd * l)) return std::nullopt;  // NaN too, from a degenerate face
             placed.push_back(x);
             s = x;
         }
