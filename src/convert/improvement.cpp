@@ -1,6 +1,8 @@
 // After the loop: split points removed again, the fewest points per input edge, local search.
 #include "convert/converter.hpp"
 
+#include <unordered_map>
+
 namespace sdmesh::conversion {
 
 void Converter::remove_unneeded_points(ConversionReport& report, const std::vector<char>* changed) {
@@ -134,14 +136,23 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
                             return false;
         return true;
     };
-    std::vector<int> count(static_cast<size_t>(edges), 0), candidates;
+    // The edges with two or more points, from the points' edges sorted (no array by edge: on the
+    // skull few edges qualify, and 4.8 M counters would be the pass's largest cost).
+    std::vector<int> candidates;
     for (size_t y = input_vertices_; y < P_.size(); ++y)
         if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0 && !removed_[y - input_vertices_])
-            ++count[ie];
-    for (int e = 0; e < edges; ++e)
-        if (count[e] >= 2 && !input_flat_[e] && in_folds(e)) candidates.push_back(e);
+            candidates.push_back(ie);
+    std::sort(candidates.begin(), candidates.end());
+    size_t kept = 0;
+    for (size_t i = 0; i < candidates.size();) {
+        size_t j = i;
+        while (j < candidates.size() && candidates[j] == candidates[i]) ++j;
+        if (const int e = candidates[i]; j - i >= 2 && !input_flat_[e] && in_folds(e)) candidates[kept++] = e;
+        i = j;
+    }
+    candidates.resize(kept);
     if (candidates.empty()) return {};
-    std::vector<std::vector<int>> on_edge(static_cast<size_t>(edges));
+    std::unordered_map<int, std::vector<int>> on_edge;  // by input edge, those with points or read
     auto index_points = [&](size_t from) {
         for (size_t y = from; y < P_.size(); ++y)
             if (const int ie = vertex_input_edge_[y - input_vertices_]; ie >= 0 && !removed_[y - input_vertices_])
