@@ -89,6 +89,14 @@ constexpr double kNeedleCorner = std::numbers::pi / 180;
 constexpr double kThinCorner = 5 * std::numbers::pi / 180;
 constexpr int kMaxStripCorners = 3;
 
+// Cotangent of the angle under which y sees p-q (+inf where y is on their line): the apex tests
+// of point removal and placement, which compare sums of these with 0.
+inline double cotangent_seen_from(const Eigen::Vector3d& y, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+    const Eigen::Vector3d a = p - y, b = q - y;
+    const double sine = a.cross(b).norm();
+    return sine > 0 ? a.dot(b) / sine : std::numeric_limits<double>::infinity();
+}
+
 // The hinge of an edge seen from halfedge h = (a -> b) with apex r, and its twin's apex s
 // (s = -1 on the boundary).
 struct Hinge {

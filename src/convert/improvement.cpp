@@ -53,12 +53,8 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         }
     }
     auto is_too_big = [&](int f) { return f >= 0 && any_flat && plane_too_big[plane_of[f]]; };
-    // Cotangent of the angle under which y sees p-q (+inf on their line).
-    auto cotangent = [&](int y, int p, int q) {
-        const Eigen::Vector3d a = P_[p] - P_[y], b = P_[q] - P_[y];
-        const double sine = a.cross(b).norm();
-        return sine > 0 ? a.dot(b) / sine : std::numeric_limits<double>::infinity();
-    };
+    // cotangent_seen_from, by vertex ids.
+    auto cotangent = [&](int y, int p, int q) { return cotangent_seen_from(P_[y], P_[p], P_[q]); };
     // Cotangent of the widest angle under which a point of the plane of face f, off edge e,
     // sees p-q.
     auto apex_cotangent = [&](int f, int p, int q, int e) {
@@ -175,11 +171,7 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
     auto apex_cotangent = [](const std::vector<Eigen::Vector3d>& face, const Eigen::Vector3d& u,
                              const Eigen::Vector3d& v) {
         double smallest = std::numeric_limits<double>::infinity();
-        for (const Eigen::Vector3d& p : face) {
-            const Eigen::Vector3d a = u - p, b = v - p;
-            const double sine = a.cross(b).norm();
-            if (sine > 0) smallest = std::min(smallest, a.dot(b) / sine);
-        }
+        for (const Eigen::Vector3d& p : face) smallest = std::min(smallest, cotangent_seen_from(p, u, v));
         return smallest;
     };
     const bool strict = options_.boundary == BoundaryPolicy::strict;
