@@ -64,6 +64,13 @@ namespace sdmesh {
 /// The angle opposite `opposite`, in [0, π], as atan2(4·area, b² + c² - opposite²).
 [[nodiscard]] double corner_angle(double opposite, double b, double c);
 
+/// Whether the angle opposite `opposite` is below the acute angle whose tangent is `tangent`:
+/// corner_angle's comparison without its arctangent (4·area < tangent · (b² + c² - opposite²)).
+[[nodiscard]] inline bool corner_below(double opposite, double b, double c, double tangent) {
+    const double cosine = cosine_numerator(opposite, b, c);
+    return cosine > 0 && 4.0 * triangle_area(opposite, b, c) < tangent * cosine;
+}
+
 /// Cotangent of the angle opposite `opposite` (± infinity for a zero-area triangle).
 [[nodiscard]] double corner_cotangent(double opposite, double b, double c);
 

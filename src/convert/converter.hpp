@@ -87,6 +87,7 @@ constexpr double kNeedleCorner = std::numbers::pi / 180;
 // costs boot and koala 1-2 %), unless the corner's vertex has more such input corners than
 // kMaxStripCorners: the apex of a fan, whose needles take shells.
 constexpr double kThinCorner = 5 * std::numbers::pi / 180;
+inline const double kThinCornerTangent = std::tan(kThinCorner);  // for corner_below
 constexpr int kMaxStripCorners = 3;
 
 // Cotangent of the angle under which y sees p-q (+inf where y is on their line): the apex tests

@@ -280,19 +280,13 @@ int Converter::needle_end(int e) const {
     const int a = input_edges_.E(e, 0), b = input_edges_.E(e, 1);
     const double l = input_length_[e];
     static const double tangent = std::tan(kNeedleCorner);
-    // The corner between sides b and c opposite `opposite` is below kNeedleCorner: its
-    // tangent, 4·area over the cosine numerator, is (no arctangent for 2.4M edges).
-    auto needle_corner = [&](double opposite, double b_side, double c_side) {
-        const double cosine = cosine_numerator(opposite, b_side, c_side);
-        return cosine > 0 && 4.0 * triangle_area(opposite, b_side, c_side) < tangent * cosine;
-    };
     bool at_a = false, at_b = false;
     for (const int side : {input_edges_.edge_halfedges(e, 0), input_edges_.edge_halfedges(e, 1)}) {
         if (side < 0) continue;
         const int r = input_.F(side / 3, side % 3);  // halfedge 3f + k lies opposite corner k
         const double ar = dist(a, r), br = dist(b, r);
-        at_a = at_a || needle_corner(br, l, ar);
-        at_b = at_b || needle_corner(ar, l, br);
+        at_a = at_a || corner_below(br, l, ar, tangent);
+        at_b = at_b || corner_below(ar, l, br, tangent);
     }
     if (at_a == at_b) return -1;
     return at_a ? a : b;
