@@ -32,4 +32,10 @@ for study in "${studies[@]}"; do
   step "$study" "$build/experiments/$study" --out "$out"
   step "${study}_plot" "$python" "experiments/$study/plot.py" "$out"
 done
+if [ -e /usr/share/doc/libcgal-dev/data.tar.gz ]; then
+  cmake --build "$build" --parallel "$(nproc)" --target sdmesh_cli
+  step unseen_meshes "$python" experiments/unseen_meshes/sweep.py "$build/sdmesh" "$out"
+else
+  echo "== unseen_meshes: skipped (apt-get install libcgal-demo occt-misc geomview)"
+fi
 echo "== all studies: $((SECONDS - start)) s; results in $out"

@@ -1,0 +1,190 @@
+#!/usr/bin/env python3
+"""Converts every mesh that three Debian packages ship, none of them used in development.
+
+    sweep.py SDMESH OUT [--work DIR] [--jobs N] [--timeout SECONDS]
+
+SDMESH is the sdmesh program (a Release build), OUT the results folder, DIR a scratch folder for
+the extracted meshes and the reports (default: a temporary one). The meshes come from
+libcgal-demo (data.tar.gz: CGAL's test and demo meshes, extracted into DIR/meshes), occt-misc
+(Open CASCADE's STL samples) and geomview (its OFF examples):
+
+    apt-get install libcgal-demo occt-misc geomview
+
+Each mesh is converted with the default split method and with hybrid at 10°, under a time limit.
+Every output of a successful conversion must pass `sdmesh check` and convert again with no flip
+and no split. Writes OUT/unseen_meshes.csv (one row per mesh and method) and OUT/unseen_meshes.md
+(what each exit code stands for, how many, the slowest and least efficient conversions), prints
+the summary and exits 1 if a conversion crashed, timed out, was not certified on a manifold mesh
+or failed the output checks. Python 3 standard library only.
+"""
+
+import argparse
+import concurrent.futures
+import csv
+import hashlib
+import json
+import statistics
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
+from pathlib import Path
+
+CGAL_DATA = Path("/usr/share/doc/libcgal-dev/data.tar.gz")
+OCCT_STL = Path("/usr/share/opencascade/data/stl")
+GEOMVIEW = Path("/usr/share/geomview")
+MESH_SUFFIXES = (".off", ".obj", ".ply", ".stl")
+METHODS = {"split": [], "hybrid-10": ["--method", "hybrid", "--max-dihedral", "10"]}
+# sdmesh's exit codes (README, "Exit codes"): 0 certified, 1 not certified, 4 unsupported format,
+# 5 malformed file, 6 invalid mesh (non-manifold, inconsistent orientation, zero-area faces).
+EXPECTED_REFUSALS = {4: "unsupported format", 5: "malformed file", 6: "invalid mesh"}
+
+
+def gather_meshes(work):
+    """The packages' mesh files, sorted; CGAL's tarball is extracted into work/meshes once."""
+    found = []
+    if CGAL_DATA.exists():
+        target = work / "meshes"
+        if not target.exists():
+            with tarfile.open(CGAL_DATA) as archive:
+                for member in archive.getmembers():  # mesh files only, and only below target
+                    name = Path(member.name)
+                    if member.isfile() and name.suffix.lower() in MESH_SUFFIXES and not name.is_absolute() \
+                            and ".." not in name.parts:
+                        (target / name).parent.mkdir(parents=True, exist_ok=True)
+                        (target / name).write_bytes(archive.extractfile(member).read())
+        found += [p for p in target.rglob("*") if p.suffix.lower() in MESH_SUFFIXES]
+    for folder in (OCCT_STL, GEOMVIEW):
+        if folder.exists():
+            found += [p for p in folder.rglob("*") if p.suffix.lower() in MESH_SUFFIXES]
+    return sorted(p for p in found if p.is_file())
+
+
+def source_name(mesh, work):
+    """The mesh's package and its path there, e.g. libcgal-demo:data/meshes/elk.off."""
+    for package, root in (("libcgal-demo", work / "meshes"), ("occt-misc", OCCT_STL), ("geomview", GEOMVIEW)):
+        if mesh.is_relative_to(root):
+            return f"{package}:{mesh.relative_to(root)}"
+    return str(mesh)
+
+
+def run(command, timeout):
+    began = time.monotonic()
+    try:
+        done = subprocess.run(command, capture_output=True, text=True, timeout=timeout)
+        return done.returncode, done.stderr.strip().splitlines()[-1:] or [""], time.monotonic() - began
+    except subprocess.TimeoutExpired:
+        return "timeout", ["timed out"], time.monotonic() - began
+
+
+def convert_one(sdmesh, mesh, method, work, timeout):
+    """Converts mesh with one method, then checks the output; returns a CSV row."""
+    stem = f"{hashlib.md5(str(mesh).encode()).hexdigest()[:8]}_{mesh.name}.{method}"
+    converted, report = work / "outputs" / f"{stem}.ply", work / "outputs" / f"{stem}.json"
+    code, message, seconds = run([sdmesh, "convert", str(mesh), str(converted), "--report", str(report),
+                                  *METHODS[method]], timeout)
+    row = {"mesh": source_name(mesh, work), "method": method, "exit": code, "wall_seconds": f"{seconds:.2f}",
+           "message": message[0] if code != 0 else ""}
+    if code != 0 or not report.exists():
+        return row
+    r = json.loads(report.read_text())
+    added = r["output_vertices"] - r["input_vertices"]
+    folds = r["input_nonflat_non_delaunay_edges"]
+    row.update(input_faces=r["input_faces"], added_vertices=added, nonflat_non_delaunay_edges=folds,
+               efficiency=f"{added / folds:.3f}" if folds else "", status=r["status"],
+               hausdorff_rel=r["hausdorff_rel"])
+    check, _, _ = run([sdmesh, "check", str(converted)], timeout)
+    again = work / "outputs" / f"{stem}.again.json"
+    code_again, _, _ = run([sdmesh, "convert", str(converted), str(work / "outputs" / f"{stem}.again.ply"),
+                            "--report", str(again), *METHODS[method]], timeout)
+    redone = -1
+    if code_again == 0 and again.exists():
+        a = json.loads(again.read_text())
+        redone = a["flips"] + a["splits"]
+    row.update(check_exit=check, reconvert_work=redone)
+    for leftover in (converted, work / "outputs" / f"{stem}.again.ply"):
+        leftover.unlink(missing_ok=True)  # the reports suffice; outputs of the big meshes are large
+    return row
+
+
+def failed(row):
+    if row["exit"] in EXPECTED_REFUSALS:
+        return False
+    return row["exit"] != 0 or row.get("check_exit") != 0 or row.get("reconvert_work") != 0
+
+
+def summarize(rows, seconds):
+    lines = ["# Conversion of meshes never used in development", "",
+             f"{len({r['mesh'] for r in rows})} mesh files from Debian's libcgal-demo, occt-misc and geomview, "
+             f"each converted with split (the default) and hybrid at 10° by "
+             f"`experiments/unseen_meshes/sweep.py` ({seconds:.0f} s on 2 jobs). A successful output must pass "
+             f"`sdmesh check` and convert again with no flip and no split.", ""]
+    for method in METHODS:
+        mine = [r for r in rows if r["method"] == method]
+        by_exit = {}
+        for r in mine:
+            by_exit[r["exit"]] = by_exit.get(r["exit"], 0) + 1
+        done = [r for r in mine if r["exit"] == 0]
+        effs = [float(r["efficiency"]) for r in done if r.get("efficiency")]
+        lines += [f"## {method}", "",
+                  "| exit | meaning | meshes |", "|---:|---|---:|"]
+        for code, count in sorted(by_exit.items(), key=lambda kv: str(kv[0])):
+            meaning = "certified" if code == 0 else EXPECTED_REFUSALS.get(code, "FAILURE")
+            lines.append(f"| {code} | {meaning} | {count} |")
+        bad = [r for r in mine if failed(r)]
+        lines += ["", f"Output checks failed or unexpected exits: {len(bad)}."]
+        if effs:
+            lines.append(f"Vertex efficiency over the {len(effs)} certified meshes with non-Delaunay folds: "
+                         f"median {statistics.median(effs):.2f}, max {max(effs):.2f}.")
+        lines += ["", "| slowest | faces | seconds | efficiency |", "|---|---:|---:|---:|"]
+        for r in sorted(done, key=lambda r: -float(r["wall_seconds"]))[:5]:
+            lines.append(f"| {r['mesh']} | {r['input_faces']:,} | {r['wall_seconds']} | "
+                         f"{r.get('efficiency', '')} |")
+        lines += ["", "| least efficient | faces | non-Delaunay folds | added vertices | efficiency |",
+                  "|---|---:|---:|---:|---:|"]
+        for r in sorted((r for r in done if r.get("efficiency")), key=lambda r: -float(r["efficiency"]))[:8]:
+            lines.append(f"| {r['mesh']} | {r['input_faces']:,} | {r['nonflat_non_delaunay_edges']:,} | "
+                         f"{r['added_vertices']:,} | {r['efficiency']} |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("sdmesh")
+    parser.add_argument("out", type=Path)
+    parser.add_argument("--work", type=Path)
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--timeout", type=float, default=300)
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory(prefix="sdmesh_sweep_") as scratch:
+        work = args.work or Path(scratch)
+        (work / "outputs").mkdir(parents=True, exist_ok=True)
+        meshes = gather_meshes(work)
+        if not meshes:
+            sys.exit("sweep.py: no meshes found; apt-get install libcgal-demo occt-misc geomview")
+        began = time.monotonic()
+        with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+            rows = list(pool.map(lambda job: convert_one(args.sdmesh, job[0], job[1], work, args.timeout),
+                                 [(m, method) for m in meshes for method in METHODS]))
+        seconds = time.monotonic() - began
+    args.out.mkdir(parents=True, exist_ok=True)
+    fields = ["mesh", "method", "exit", "status", "wall_seconds", "input_faces", "nonflat_non_delaunay_edges",
+              "added_vertices", "efficiency", "hausdorff_rel", "check_exit", "reconvert_work", "message"]
+    with open(args.out / "unseen_meshes.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fields)
+        writer.writeheader()
+        writer.writerows(rows)
+    summary = summarize(rows, seconds)
+    (args.out / "unseen_meshes.md").write_text(summary)
+    print(summary)
+    bad = [r for r in rows if failed(r)]
+    for r in bad:
+        print(f"FAILED: {r['mesh']} ({r['method']}): exit {r['exit']}, check {r.get('check_exit')}, "
+              f"work on reconversion {r.get('reconvert_work')} {r['message']}", file=sys.stderr)
+    sys.exit(1 if bad else 0)
+
+
+if __name__ == "__main__":
+    main()
