@@ -132,6 +132,66 @@ Orientation orient_faces(const Eigen::MatrixX3i& F, const EdgeTable& edges) {
     return result;
 }
 
+// Whether face f (with three distinct indices) has zero area: at most 1e-12 of its longest side
+// squared. Returns its side lengths, side k opposite corner k, in `sides`.
+bool has_zero_area(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int f, double (&sides)[3]) {
+    for (int k = 0; k < 3; ++k)
+        sides[k] = distance(V.row(F(f, (k + 1) % 3)).transpose(), V.row(F(f, (k + 2) % 3)).transpose());
+    const double longest = std::max({sides[0], sides[1], sides[2]});
+    return std::isfinite(longest) && triangle_area(sides[0], sides[1], sides[2]) <= 1e-12 * longest * longest;
+}
+
+// The edge u-v of the table, -1 if there is none (the rows are sorted).
+int find_edge(const EdgeTable& table, int u, int v) {
+    const Eigen::Vector2i key(std::min(u, v), std::max(u, v));
+    int lo = 0, hi = table.num_edges();
+    while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        const Eigen::Vector2i row = table.E.row(mid).transpose();
+        if (row[0] < key[0] || (row[0] == key[0] && row[1] < key[1])) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo < table.num_edges() && table.E(lo, 0) == key[0] && table.E(lo, 1) == key[1] ? lo : -1;
+}
+
+// A cap is a zero-area face whose third vertex c lies inside its longest side a-b, away from both
+// ends (its shorter sides are at least kCapSide of a-b, far longer than its height). With the face
+// a-b-d across that side, the cap and that face become c-a-d and b-c-d, which tile a-b-d: the
+// surface moves by no more than the cap's height (1e-12 of a-b at most). Each pass flips caps
+// whose faces no earlier flip of the pass touched; a flip can leave a new cap if d lies on a-b
+// too. Consistently oriented faces expected. Returns the number of flips.
+int flip_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
+    constexpr double kCapSide = 1e-6;
+    constexpr int kPasses = 8;
+    int flips = 0;
+    for (int pass = 0, made = 1; pass < kPasses && made > 0; ++pass) {
+        const EdgeTable table = build_edge_table(F, static_cast<int>(V.rows()), NonmanifoldVertices::skip);
+        std::vector<char> touched(static_cast<size_t>(F.rows()), 0);
+        made = 0;
+        for (int f = 0; f < F.rows(); ++f) {
+            double sides[3];
+            if (touched[f] || has_repeated_index(F, f) || !has_zero_area(V, F, f, sides)) continue;
+            const int corner = static_cast<int>(std::max_element(sides, sides + 3) - sides);
+            if (*std::min_element(sides, sides + 3) < kCapSide * sides[corner])
+                continue;  // a needle: two nearly coincident vertices make it flat, no flip mends that
+            const int e = table.face_edge(f, corner);
+            if (e < 0 || table.face_count[e] != 2) continue;
+            const int across = table.edge_halfedges(e, 0) / 3 == f ? table.edge_halfedges(e, 1)
+                                                                    : table.edge_halfedges(e, 0);
+            const int g = across / 3;
+            const int c = F(f, corner), a = F(f, (corner + 1) % 3), b = F(f, (corner + 2) % 3);
+            const int d = F(g, across % 3);
+            if (g == f || touched[g] || d == c || find_edge(table, c, d) >= 0) continue;
+            F.row(f) << c, a, d;
+            F.row(g) << b, c, d;
+            touched[f] = touched[g] = 1;
+            ++made;
+        }
+        flips += made;
+    }
+    return flips;
+}
+
 }  // namespace
 
 MeshInfo validate(const TriangleMesh& mesh) {
@@ -169,11 +229,8 @@ MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges) {
             first_repeated = std::min(first_repeated, f);
             continue;
         }
-        double l[3];
-        for (int k = 0; k < 3; ++k)
-            l[k] = distance(V.row(F(f, (k + 1) % 3)).transpose(), V.row(F(f, (k + 2) % 3)).transpose());
-        const double longest = std::max({l[0], l[1], l[2]});
-        if (std::isfinite(longest) && triangle_area(l[0], l[1], l[2]) <= 1e-12 * longest * longest) {
+        double sides[3];
+        if (has_zero_area(V, F, f, sides)) {
             ++zero_area;
             first_zero_area = std::min(first_zero_area, f);
         }
@@ -305,6 +362,8 @@ TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, Repa
                 ++counts.flipped_faces;
             }
     }
+    if (options.flip_caps && options.orient && counts.non_orientable_components == 0)
+        counts.flipped_caps = flip_caps(out.V, out.F);
     if (options.drop_unreferenced_vertices) {
         const std::vector<char> referenced = referenced_vertices(out);
         std::vector<int> new_index(out.num_vertices(), -1);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "meshes.hpp"
+#include "sdmesh/convert.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/shapes.hpp"
 #include "sdmesh/validate.hpp"
@@ -202,6 +203,53 @@ TEST(Repair, RestoresAValidMesh) {
         volume += repaired.V.row(repaired.F(f, 0)).dot(
             repaired.V.row(repaired.F(f, 1)).cross(repaired.V.row(repaired.F(f, 2))));
     EXPECT_GT(volume, 0);
+}
+
+TEST(Repair, FlipsZeroAreaCapsAwayWithoutMovingTheSurface) {
+    // An octahedron whose edge +x +y carries a vertex at its midpoint: the face below is split
+    // there, and a cap (zero area, the new vertex inside its long side) closes the surface.
+    const TriangleMesh octahedron = make_mesh(
+        {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+        {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
+    TriangleMesh capped = octahedron;
+    capped.V.conservativeResize(7, 3);
+    capped.V.row(6) << 0.5, 0.5, 0;
+    capped.F.conservativeResize(10, 3);
+    capped.F.row(4) << 2, 6, 5;
+    capped.F.row(8) << 6, 0, 5;
+    capped.F.row(9) << 2, 0, 6;  // the cap
+    ASSERT_EQ(validate(capped).zero_area_faces, 1);
+    ASSERT_EQ(validate(capped).orientation_conflicts, 0);
+    EXPECT_THROW((void)convert(capped), InvalidMeshError);
+
+    RepairReport report;
+    const TriangleMesh repaired = repair(capped, {}, &report);
+    EXPECT_EQ(report.flipped_caps, 1);
+    const MeshInfo info = validate(repaired);
+    EXPECT_EQ(info.zero_area_faces, 0);
+    EXPECT_TRUE(info.manifold());
+    EXPECT_EQ(info.orientation_conflicts, 0);
+    EXPECT_EQ(info.euler_characteristic, 2);
+    // The same surface: the area and the enclosed volume of the octahedron (4√3 and 4/3).
+    double area = 0, volume = 0;
+    for (int f = 0; f < repaired.num_faces(); ++f) {
+        const Eigen::Vector3d a = repaired.V.row(repaired.F(f, 0)), b = repaired.V.row(repaired.F(f, 1)),
+                              c = repaired.V.row(repaired.F(f, 2));
+        area += 0.5 * (b - a).cross(c - a).norm();
+        volume += a.dot(b.cross(c)) / 6;
+    }
+    EXPECT_NEAR(area, 4 * std::sqrt(3.0), 1e-12);
+    EXPECT_NEAR(volume, 4.0 / 3.0, 1e-12);
+    EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
+
+    // Kept on request; a needle (zero area from a short side) is not a cap and stays.
+    RepairOptions keep;
+    keep.flip_caps = false;
+    EXPECT_EQ(validate(repair(capped, keep)).zero_area_faces, 1);
+    TriangleMesh needle = octahedron;
+    needle.V.row(4) << 1e-14, 1, 1e-14;  // +z next to +y: faces 0 and 1 are needles
+    EXPECT_EQ(validate(needle).zero_area_faces, 2);
+    EXPECT_EQ(validate(repair(needle)).zero_area_faces, 2);
 }
 
 }  // namespace

@@ -65,13 +65,17 @@ void require_manifold(const MeshInfo& info, const std::string& what);
 /// with no zero-area face. \throws InvalidMeshError "<what>: ..." naming the first defect.
 void require_oriented_manifold(const MeshInfo& info, const std::string& what);
 
-/// Safe repairs, each optional; they never move a vertex. Applied in this order.
+/// Safe repairs, each optional; they never move a vertex (and the surface by at most the height
+/// of a zero-area face, flip_caps). Applied in this order.
 struct RepairOptions {
     bool merge_coincident_vertices = true;  ///< vertices at exactly the same position become one
     bool drop_repeated_index_faces = true;  ///< faces with two equal indices
     bool drop_duplicate_faces = true;       ///< keep the first face of each vertex set
     bool orient = true;  ///< re-wind faces so each orientable component is consistent, keeping
                          ///< the orientation of its first face
+    /// zero-area faces with a vertex inside their longest side (caps) are flipped away with the
+    /// face across that side, which the two new faces tile; needs the orientation repair
+    bool flip_caps = true;
     bool drop_unreferenced_vertices = true; ///< compact V; remaining vertices keep their order
 };
 
@@ -81,6 +85,7 @@ struct RepairReport {
     int dropped_duplicate_faces = 0;
     int flipped_faces = 0;
     int non_orientable_components = 0;  ///< components left as they were
+    int flipped_caps = 0;
     int dropped_vertices = 0;
 };
 

@@ -16,10 +16,11 @@ int run_repair(Args& args) {
     options.drop_repeated_index_faces = !args.flag("--keep-repeated");
     options.drop_duplicate_faces = !args.flag("--keep-duplicates");
     options.orient = !args.flag("--keep-orientation");
+    options.flip_caps = !args.flag("--keep-caps");
     options.drop_unreferenced_vertices = !args.flag("--keep-unreferenced");
     const auto paths = args.positionals(
         2, "sdmesh repair IN OUT [--keep-coincident] [--keep-repeated] [--keep-duplicates] "
-           "[--keep-orientation] [--keep-unreferenced]");
+           "[--keep-orientation] [--keep-caps] [--keep-unreferenced]");
 
     const TriangleMesh mesh = read_mesh(paths[0]);
     RepairReport report;
@@ -35,6 +36,7 @@ int run_repair(Args& args) {
         .add("dropped_duplicate_faces", report.dropped_duplicate_faces)
         .add("flipped_faces", report.flipped_faces)
         .add("non_orientable_components", report.non_orientable_components)
+        .add("flipped_caps", report.flipped_caps)
         .add("dropped_vertices", report.dropped_vertices)
         .add("vertices", info.vertices)
         .add("faces", info.faces)
