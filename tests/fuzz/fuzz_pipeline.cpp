@@ -1,5 +1,5 @@
-// libFuzzer target: what `sdmesh check`, `convert`, `operators`, `decimate`, `eigs` and
-// `poisson` do, on small decoded meshes.
+// libFuzzer target: what `sdmesh check`, `repair`, `convert`, `operators`, `decimate`, `eigs`
+// and `poisson` do, on small decoded meshes.
 // The selector byte of fuzz_input.hpp also chooses the conversion method (bits 3-4: split,
 // hybrid, flip, split with a pass of local search) and the boundary policy (bit 5). Meshes are capped and convert gets a vertex budget, so that no single
 // input runs long. Bad meshes may only be refused with InvalidMeshError; results must satisfy
@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
 
 #include "fuzz_input.hpp"
 #include "sdmesh/convert.hpp"
@@ -99,6 +100,29 @@ void check_solvers(const sdmesh::TriangleMesh& mesh) {
     }
 }
 
+// The area of the faces and the longest side's square, for the tolerance of area comparisons.
+std::pair<double, double> area_and_longest_squared(const sdmesh::TriangleMesh& mesh) {
+    double area = 0, longest = 0;
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+        const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+        area += 0.5 * (b - a).cross(c - a).norm();
+        longest = std::max({longest, (b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    }
+    return {area, longest};
+}
+
+// sdmesh repair: flipping the zero-area caps away changes neither the counts nor the area (the
+// caps have none; the two new faces tile the face across).
+void check_repair(const sdmesh::TriangleMesh& mesh) {
+    const sdmesh::TriangleMesh flipped = sdmesh::repair(mesh);
+    const sdmesh::TriangleMesh kept = sdmesh::repair(mesh, {.flip_caps = false});
+    require(flipped.num_faces() == kept.num_faces() && flipped.num_vertices() == kept.num_vertices());
+    const auto [before, longest_squared] = area_and_longest_squared(kept);
+    if (std::isfinite(before) && std::isfinite(longest_squared))
+        require(std::abs(area_and_longest_squared(flipped).first - before) <= 1e-9 * (before + longest_squared));
+    (void)sdmesh::validate(flipped);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -126,6 +150,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const sdmesh::MeshInfo info = sdmesh::validate(mesh, edges);
         require(info.faces == mesh.F.rows());
         sdmesh::certify(mesh, edges, {.boundary = options.boundary});
+        if (info.non_finite_vertices == 0) check_repair(mesh);
         // sdmesh convert, then sdmesh operators on its output
         const sdmesh::ConversionResult result = sdmesh::convert(mesh, options);
         require(result.mesh.num_vertices() >= mesh.num_vertices());
