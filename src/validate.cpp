@@ -192,6 +192,52 @@ int flip_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
     return flips;
 }
 
+// Gives each fan of faces around a non-manifold vertex its own copy of the vertex (at the same
+// position), the fan with the smallest corner keeping the original: faces of a fan are joined
+// through edges with exactly two faces, so the sheets that meet at an edge with more faces come
+// apart along it, each with a boundary there. Faces with a repeated index are left out. Returns
+// the number of copies made.
+int split_nonmanifold_vertices(TriangleMesh& mesh) {
+    const EdgeTable table = build_edge_table(mesh.F, mesh.num_vertices());
+    if (table.nonmanifold_vertices.empty()) return 0;
+    Eigen::MatrixX3i& F = mesh.F;
+    const int corners = static_cast<int>(3 * F.rows());
+    UnionFind fans(corners);  // corner 3f + k: vertex F(f, k) in face f
+    auto corner_of = [&F](int f, int v) {
+        const int k = F(f, 0) == v ? 0 : F(f, 1) == v ? 1 : 2;
+        return 3 * f + k;
+    };
+    for (int e = 0; e < table.num_edges(); ++e) {
+        if (table.face_count[e] != 2) continue;
+        const int f0 = table.edge_halfedges(e, 0) / 3, f1 = table.edge_halfedges(e, 1) / 3;
+        for (int end = 0; end < 2; ++end) fans.unite(corner_of(f0, table.E(e, end)), corner_of(f1, table.E(e, end)));
+    }
+    std::vector<char> nonmanifold(static_cast<size_t>(mesh.num_vertices()), 0);
+    for (const int v : table.nonmanifold_vertices) nonmanifold[v] = 1;
+    // By fan root: the vertex that fan's corners get, once its first corner has been seen.
+    std::vector<int> fan_vertex(static_cast<size_t>(corners), -1);
+    std::vector<char> kept(static_cast<size_t>(mesh.num_vertices()), 0);  // a fan has the original
+    std::vector<int> copied_from;
+    for (int c = 0; c < corners; ++c) {
+        const int f = c / 3, v = F(f, c % 3);
+        if (!nonmanifold[v] || has_repeated_index(F, f)) continue;
+        int& vertex = fan_vertex[fans.find(c)];
+        if (vertex < 0) {
+            if (!kept[v]) {
+                vertex = v, kept[v] = 1;
+            } else {
+                vertex = mesh.num_vertices() + static_cast<int>(copied_from.size());
+                copied_from.push_back(v);
+            }
+        }
+        F(f, c % 3) = vertex;
+    }
+    const int old_count = mesh.num_vertices();
+    mesh.V.conservativeResize(old_count + static_cast<Eigen::Index>(copied_from.size()), 3);
+    for (size_t i = 0; i < copied_from.size(); ++i) mesh.V.row(old_count + static_cast<int>(i)) = mesh.V.row(copied_from[i]);
+    return static_cast<int>(copied_from.size());
+}
+
 }  // namespace
 
 MeshInfo validate(const TriangleMesh& mesh) {
@@ -353,6 +399,7 @@ TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, Repa
         counts.dropped_duplicate_faces = static_cast<int>(std::count(drop.begin(), drop.end(), 1));
         keep_faces(drop);
     }
+    if (options.split_nonmanifold_vertices) counts.split_vertices = split_nonmanifold_vertices(out);
     if (options.orient) {
         const Orientation orientation = orient_faces(out.F, build_edge_table(out.F, out.num_vertices()));
         counts.non_orientable_components = orientation.non_orientable_components;

@@ -205,6 +205,68 @@ TEST(Repair, RestoresAValidMesh) {
     EXPECT_GT(volume, 0);
 }
 
+// The area of a mesh's faces: repairs must not change it.
+double total_area(const TriangleMesh& mesh) {
+    double area = 0;
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+        const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+        area += 0.5 * (b - a).cross(c - a).norm();
+    }
+    return area;
+}
+
+TEST(Repair, GivesEachFanAtANonManifoldVertexItsOwnCopy) {
+    // Two octahedra touching at a vertex (a bow-tie vertex), and a book of three triangles on one
+    // edge (an edge with three faces; both its vertices are non-manifold).
+    const TriangleMesh octahedron = make_mesh(
+        {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+        {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
+    TriangleMesh touching;
+    touching.V.resize(11, 3);
+    touching.V.topRows(6) = octahedron.V;
+    // The second octahedron, moved by 2 along x: its vertex 1 (-x) is the first's vertex 0 (+x),
+    // its others become 6, 7, ..., 10.
+    const int second[6] = {6, 0, 7, 8, 9, 10};
+    for (int v = 0; v < 6; ++v)
+        if (v != 1) touching.V.row(second[v]) = octahedron.V.row(v) + Eigen::RowVector3d(2, 0, 0);
+    touching.F.resize(16, 3);
+    touching.F.topRows(8) = octahedron.F;
+    for (int f = 0; f < 8; ++f)
+        for (int k = 0; k < 3; ++k) touching.F(8 + f, k) = second[octahedron.F(f, k)];
+    const MeshInfo before = validate(touching);
+    ASSERT_EQ(before.nonmanifold_vertices, 1);
+    ASSERT_EQ(before.first_nonmanifold_vertex, 0);
+    RepairReport report;
+    const TriangleMesh repaired = repair(touching, {}, &report);
+    EXPECT_EQ(report.split_vertices, 1);
+    const MeshInfo after = validate(repaired);
+    EXPECT_TRUE(after.manifold());
+    EXPECT_EQ(after.components, 2);
+    EXPECT_EQ(after.genus, 0);
+    EXPECT_EQ(after.duplicate_vertex_positions, 1);  // the copy sits where the vertex was
+    EXPECT_NEAR(total_area(repaired), total_area(touching), 1e-12);
+    EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
+
+    const TriangleMesh book = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0.2}, {0.5, 0, 1}},
+                                        {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+    ASSERT_EQ(validate(book).nonmanifold_edges, 1);
+    const TriangleMesh pages = repair(book, {}, &report);
+    const MeshInfo opened = validate(pages);
+    EXPECT_TRUE(opened.manifold());
+    EXPECT_EQ(opened.nonmanifold_edges, 0);
+    EXPECT_EQ(report.split_vertices, 4);  // the edge's two vertices, once for two of the pages
+    EXPECT_NEAR(total_area(pages), total_area(book), 1e-12);
+    for (int v = 0; v < pages.num_vertices(); ++v) {  // every vertex where one of the book's was
+        bool found = false;
+        for (int w = 0; w < book.num_vertices(); ++w) found = found || pages.V.row(v) == book.V.row(w);
+        EXPECT_TRUE(found) << "vertex " << v;
+    }
+
+    RepairOptions keep;
+    keep.split_nonmanifold_vertices = false;
+    EXPECT_EQ(validate(repair(touching, keep)).nonmanifold_vertices, 1);
+}
+
 TEST(Repair, FlipsZeroAreaCapsAwayWithoutMovingTheSurface) {
     // An octahedron whose edge +x +y carries a vertex at its midpoint: the face below is split
     // there, and a cap (zero area, the new vertex inside its long side) closes the surface.
@@ -231,14 +293,13 @@ TEST(Repair, FlipsZeroAreaCapsAwayWithoutMovingTheSurface) {
     EXPECT_EQ(info.orientation_conflicts, 0);
     EXPECT_EQ(info.euler_characteristic, 2);
     // The same surface: the area and the enclosed volume of the octahedron (4√3 and 4/3).
-    double area = 0, volume = 0;
+    double volume = 0;
     for (int f = 0; f < repaired.num_faces(); ++f) {
         const Eigen::Vector3d a = repaired.V.row(repaired.F(f, 0)), b = repaired.V.row(repaired.F(f, 1)),
                               c = repaired.V.row(repaired.F(f, 2));
-        area += 0.5 * (b - a).cross(c - a).norm();
         volume += a.dot(b.cross(c)) / 6;
     }
-    EXPECT_NEAR(area, 4 * std::sqrt(3.0), 1e-12);
+    EXPECT_NEAR(total_area(repaired), 4 * std::sqrt(3.0), 1e-12);
     EXPECT_NEAR(volume, 4.0 / 3.0, 1e-12);
     EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
 

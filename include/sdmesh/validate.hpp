@@ -71,6 +71,9 @@ struct RepairOptions {
     bool merge_coincident_vertices = true;  ///< vertices at exactly the same position become one
     bool drop_repeated_index_faces = true;  ///< faces with two equal indices
     bool drop_duplicate_faces = true;       ///< keep the first face of each vertex set
+    /// each fan of faces around a non-manifold vertex gets its own copy of the vertex (sheets
+    /// meeting at an edge with more than two faces come apart along it, with boundaries there)
+    bool split_nonmanifold_vertices = true;
     bool orient = true;  ///< re-wind faces so each orientable component is consistent, keeping
                          ///< the orientation of its first face
     /// zero-area faces with a vertex inside their longest side (caps) are flipped away with the
@@ -83,6 +86,7 @@ struct RepairReport {
     int merged_vertices = 0;
     int dropped_repeated_index_faces = 0;
     int dropped_duplicate_faces = 0;
+    int split_vertices = 0;  ///< copies made by split_nonmanifold_vertices
     int flipped_faces = 0;
     int non_orientable_components = 0;  ///< components left as they were
     int flipped_caps = 0;

@@ -36,7 +36,8 @@ Commands:
                                   --levels also writes OUT_levelK for each ratio; exit 0 if
                                   the output is self-Delaunay (status reached_target or stalled)
   repair IN OUT [--keep-...]      merge coincident vertices, drop repeated-index and duplicate
-                                  faces, orient consistently, flip zero-area caps away, drop
+                                  faces, give each fan at a non-manifold vertex its own copy,
+                                  orient consistently, flip zero-area caps away, drop
                                   unreferenced vertices
   operators MESH --out DIR [--mass barycentric|circumcentric|mixed|galerkin]
                                   L, M, d0, d1, star0/1/2 as Matrix Market files and report.json in DIR

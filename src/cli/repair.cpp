@@ -15,12 +15,13 @@ int run_repair(Args& args) {
     options.merge_coincident_vertices = !args.flag("--keep-coincident");
     options.drop_repeated_index_faces = !args.flag("--keep-repeated");
     options.drop_duplicate_faces = !args.flag("--keep-duplicates");
+    options.split_nonmanifold_vertices = !args.flag("--keep-nonmanifold");
     options.orient = !args.flag("--keep-orientation");
     options.flip_caps = !args.flag("--keep-caps");
     options.drop_unreferenced_vertices = !args.flag("--keep-unreferenced");
     const auto paths = args.positionals(
         2, "sdmesh repair IN OUT [--keep-coincident] [--keep-repeated] [--keep-duplicates] "
-           "[--keep-orientation] [--keep-caps] [--keep-unreferenced]");
+           "[--keep-nonmanifold] [--keep-orientation] [--keep-caps] [--keep-unreferenced]");
 
     const TriangleMesh mesh = read_mesh(paths[0]);
     RepairReport report;
@@ -34,6 +35,7 @@ int run_repair(Args& args) {
         .add("merged_vertices", report.merged_vertices)
         .add("dropped_repeated_index_faces", report.dropped_repeated_index_faces)
         .add("dropped_duplicate_faces", report.dropped_duplicate_faces)
+        .add("split_vertices", report.split_vertices)
         .add("flipped_faces", report.flipped_faces)
         .add("non_orientable_components", report.non_orientable_components)
         .add("flipped_caps", report.flipped_caps)
