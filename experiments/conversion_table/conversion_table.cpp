@@ -91,16 +91,16 @@ std::string csv_field(std::string_view text) {
 }
 
 constexpr const char* kHeader =
-    "mesh,faces,method,split_rule,max_dihedral_deg,local_search,cascade_trials,input_vertices,output_vertices,added_vertices,"
+    "mesh,faces,repaired,method,split_rule,max_dihedral_deg,local_search,cascade_trials,input_vertices,output_vertices,added_vertices,"
     "input_non_delaunay_edges,input_nonflat_non_delaunay_edges,vertex_efficiency,flips,splits,status,"
     "seconds,hausdorff_rel,output_non_delaunay_edges,output_negative_dual_cells,efficiency_lower_bound\n";
 
-// The columns that name the row: mesh, faces, method, split_rule, max_dihedral_deg, local_search,
-// cascade_trials.
-std::string row_key(const std::string& mesh, int faces, const Config& config) {
+// The columns that name the row: mesh, faces, repaired (1: not manifold as read, converted after
+// repair()), method, split_rule, max_dihedral_deg, local_search, cascade_trials.
+std::string row_key(const std::string& mesh, int faces, bool repaired, const Config& config) {
     const bool hybrid = config.options.method == sdmesh::ConvertMethod::hybrid;
     std::ostringstream row;
-    row << csv_field(mesh) << ',' << faces << ',' << sdmesh::to_string(config.options.method) << ','
+    row << csv_field(mesh) << ',' << faces << ',' << (repaired ? 1 : 0) << ',' << sdmesh::to_string(config.options.method) << ','
         << sdmesh::to_string(config.options.split_rule) << ',';
     if (hybrid) row << config.options.max_dihedral_deg;  // split ignores the dihedral bound
     row << ',' << config.options.local_search << ',' << config.options.cascade_trials;
@@ -166,17 +166,19 @@ int main(int argc, char** argv) {
                 continue;
             }
             std::string obstacle = conversion_obstacle(mesh);
-            if (!obstacle.empty()) {
-                sdmesh::RepairReport repaired;
-                mesh = sdmesh::repair(mesh, {}, &repaired);
-                std::cerr << where << ": repaired (" << obstacle << "): merged " << repaired.merged_vertices
-                          << " vertices, re-wound " << repaired.flipped_faces << " faces\n";
+            const bool repaired = !obstacle.empty();
+            if (repaired) {
+                sdmesh::RepairReport report;
+                mesh = sdmesh::repair(mesh, {}, &report);
+                std::cerr << where << ": repaired (" << obstacle << "): merged " << report.merged_vertices
+                          << " vertices, copied " << report.split_vertices << " non-manifold ones, re-wound "
+                          << report.flipped_faces << " faces\n";
                 obstacle = conversion_obstacle(mesh);
                 if (!obstacle.empty()) std::cerr << where << ": skipped, still not convertible: " << obstacle << "\n";
             }
             for (const Config& config : configs()) {
                 if (options.quick && !config.quick) continue;
-                const std::string key = row_key(name, mesh.num_faces(), config);
+                const std::string key = row_key(name, mesh.num_faces(), repaired, config);
                 if (!obstacle.empty()) {
                     csv += status_row(key, "skipped: " + obstacle);
                     continue;
