@@ -6,9 +6,7 @@
 #include <cstdint>
 #include <numeric>
 #include <queue>
-#include <ranges>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "sdmesh/error.hpp"
@@ -143,13 +141,18 @@ bool has_zero_area(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int f, 
     return std::isfinite(longest) && triangle_area(sides[0], sides[1], sides[2]) <= 1e-12 * longest * longest;
 }
 
-// The edge u-v of the table, -1 if there is none (the rows are sorted).
+// The edge u-v of the table, -1 if there is none (the rows are sorted; a plain bisection, since
+// clang 14, which builds the fuzzers, cannot compile libstdc++ 12's ranges).
 int find_edge(const EdgeTable& table, int u, int v) {
-    const std::pair key(std::min(u, v), std::max(u, v));
-    auto endpoints = [&table](int e) { return std::pair(table.E(e, 0), table.E(e, 1)); };
-    const auto rows = std::views::iota(0, table.num_edges());
-    const auto found = std::ranges::partition_point(rows, [&](int e) { return endpoints(e) < key; });
-    return found != rows.end() && endpoints(*found) == key ? *found : -1;
+    const Eigen::Vector2i key(std::min(u, v), std::max(u, v));
+    int lo = 0, hi = table.num_edges();
+    while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        const Eigen::Vector2i row = table.E.row(mid).transpose();
+        if (row[0] < key[0] || (row[0] == key[0] && row[1] < key[1])) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo < table.num_edges() && table.E(lo, 0) == key[0] && table.E(lo, 1) == key[1] ? lo : -1;
 }
 
 // A cap is a zero-area face whose third vertex c lies inside its longest side a-b, away from both
