@@ -399,9 +399,15 @@ private:
         if (k.r == k.s || mesh_.has_edge_between(k.h, k.s)) return false;
         const double l = dist(k.a, k.b), ar = dist(k.a, k.r), br = dist(k.b, k.r), as = dist(k.a, k.s),
                      bs = dist(k.b, k.s);
-        const double at_a = corner_angle(br, l, ar) + corner_angle(bs, l, as);
-        const double at_b = corner_angle(ar, l, br) + corner_angle(as, l, bs);
-        return at_a < kPi - 1e-9 && at_b < kPi - 1e-9;
+        const double area_r = 4.0 * triangle_area(l, ar, br), area_s = 4.0 * triangle_area(l, as, bs);
+        // The two corners at an end sum below π - 1e-9: their sum's sine and cosine, times
+        // 4·l²·|side r|·|side s|, from the faces' areas and cosine numerators.
+        auto below_straight = [&](double cos_r, double cos_s, double side_r, double side_s) {
+            const double sine = area_r * cos_s + cos_r * area_s, cosine = cos_r * cos_s - area_r * area_s;
+            return cosine >= 0 ? sine >= 0 : sine > 1e-9 * 4 * l * l * side_r * side_s;
+        };
+        return below_straight(cosine_numerator(br, l, ar), cosine_numerator(bs, l, as), ar, as) &&
+               below_straight(cosine_numerator(ar, l, br), cosine_numerator(as, l, bs), br, bs);
     }
 
     void flip(int e);

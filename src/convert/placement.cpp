@@ -217,19 +217,24 @@ Converter::Interval Converter::delaunay_halves_interval(const Hinge& k, double l
 }
 
 Converter::Interval Converter::halves_interval(double l, double ar, double br, double as, double bs) {
-    const double theta_a = corner_angle(br, l, ar), theta_b = corner_angle(ar, l, br);
+    // ALGORITHMS.md §3's bounds without an angle: each face gives 4·area = 2·l·side·sine and
+    // cosine numerators 2·l·side·cosine at a and b, and the factors of 2·l·side cancel.
+    const double area_r = 4.0 * triangle_area(l, ar, br);
+    const double cos_ar = cosine_numerator(br, l, ar), cos_br = cosine_numerator(ar, l, br);
     Interval range{0, l};
-    if (as < 0) {
-        if (std::cos(theta_a) > 0) range.hi = std::min(range.hi, ar / std::cos(theta_a));
-        if (std::cos(theta_b) > 0) range.lo = std::max(range.lo, l - br / std::cos(theta_b));
+    if (as < 0) {  // |ax| ≤ |ar| / cos θ_a
+        if (cos_ar > 0) range.hi = std::min(range.hi, 2 * l * ar * ar / cos_ar);
+        if (cos_br > 0) range.lo = std::max(range.lo, l - 2 * l * br * br / cos_br);
         return range;
     }
-    const double phi_a = corner_angle(bs, l, as), phi_b = corner_angle(as, l, bs);
-    // Second intersection of the circle through a (b), r, s with the edge line.
-    if (theta_a + phi_a < kPi)
-        range.hi = std::min(range.hi, (ar * std::sin(phi_a) + as * std::sin(theta_a)) / std::sin(theta_a + phi_a));
-    if (theta_b + phi_b < kPi)
-        range.lo = std::max(range.lo, l - (br * std::sin(phi_b) + bs * std::sin(theta_b)) / std::sin(theta_b + phi_b));
+    const double area_s = 4.0 * triangle_area(l, as, bs);
+    const double cos_as = cosine_numerator(bs, l, as), cos_bs = cosine_numerator(as, l, bs);
+    // Second intersection of the circle through a (b), r, s with the edge line:
+    // (|ar|·sin φ_a + |as|·sin θ_a) / sin(θ_a + φ_a), where θ_a + φ_a < π.
+    if (const double sine_a = area_r * cos_as + cos_ar * area_s; sine_a > 0)
+        range.hi = std::min(range.hi, 2 * l * (ar * ar * area_s + as * as * area_r) / sine_a);
+    if (const double sine_b = area_r * cos_bs + cos_br * area_s; sine_b > 0)
+        range.lo = std::max(range.lo, l - 2 * l * (br * br * area_s + bs * bs * area_r) / sine_b);
     return range;
 }
 
@@ -247,19 +252,19 @@ Converter::Interval Converter::outer_side_interval(int side, int from, int to, d
 
 Converter::Interval Converter::side_interval(double l, double d_apex, double d_to_apex, double d_w, double d_apex_w,
                                              bool from_b) const {
-    const double angle = corner_angle(d_to_apex, l, d_apex);  // at `from`, between to and apex
+    // With A the corner at `from` between `to` and apex: 2·l·d_apex·cos A.
+    const double cos_from = cosine_numerator(d_to_apex, l, d_apex);
     double reach = 0;  // D
     if (d_w < 0) {
         if (options_.boundary == BoundaryPolicy::free) return {0, l};
-        reach = d_apex * std::cos(angle);
+        reach = cos_from / (2 * l);  // d_apex·cos A
     } else {
-        const double beyond = corner_angle(d_apex_w, d_apex, d_w);  // at `from`, apex to w
-        const Eigen::Vector2d r = d_apex * Eigen::Vector2d(std::cos(angle), std::sin(angle));
-        const Eigen::Vector2d q = d_w * Eigen::Vector2d(std::cos(angle + beyond), std::sin(angle + beyond));
-        const double det = 2 * (r.x() * q.y() - r.y() * q.x());
-        if (std::abs(det) <= 1e-14 * d_apex * d_w) return {0, l};  // circle degenerates to a line
-        const double cx = (r.squaredNorm() * q.y() - q.squaredNorm() * r.y()) / det;
-        reach = 2 * cx;
+        // The circle through from, apex and w (unfolded) meets the edge line at
+        // d_apex·sin(W - A) / sin W = d_apex·(cos A - sin A·cot W), W the corner at w.
+        const double area_w = 4.0 * triangle_area(d_apex, d_w, d_apex_w);
+        if (area_w <= 1e-14 * d_apex * d_w) return {0, l};  // circle degenerates to a line
+        const double area_from = 4.0 * triangle_area(d_to_apex, l, d_apex);
+        reach = (cos_from - area_from * cosine_numerator(d_apex, d_w, d_apex_w) / area_w) / (2 * l);
     }
     if (!(reach > 0)) return {0, l};
     return from_b ? Interval{0, l - reach} : Interval{reach, l};
