@@ -68,6 +68,18 @@ TEST_F(Cli, ConvertReportHasTheDocumentedKeys) {
     EXPECT_EQ(run_cli("check " + path("bunny_sd.obj")).code, 0);
 }
 
+TEST_F(Cli, NoHausdorffReportsNullInsteadOfADistance) {
+    const std::string hybrid = "convert " + kBunny + " " + path("bunny_hybrid.obj") + " --method hybrid";
+    const CliRun measured = run_cli(hybrid);
+    const CliRun skipped = run_cli(hybrid + " --no-hausdorff --progress");
+    EXPECT_EQ(measured.code, 0) << measured.err;
+    EXPECT_EQ(skipped.code, 0) << skipped.err;
+    EXPECT_EQ(measured.out.find("\"hausdorff_rel\": null"), std::string::npos);
+    EXPECT_EQ(measured.out.find("\"hausdorff_rel\": 0,"), std::string::npos);  // hybrid flips move the bunny
+    EXPECT_NE(skipped.out.find("\"hausdorff_rel\": null"), std::string::npos) << skipped.out;
+    EXPECT_EQ(skipped.err.find("Hausdorff"), std::string::npos) << skipped.err;
+}
+
 TEST_F(Cli, EveryCommandPrintsItsOwnHelp) {
     const std::vector<std::string> commands = {"info",      "check",     "repair", "convert",  "decimate", "operators",
                                                "intrinsic", "eigs",      "geodesic", "poisson", "heat"};

@@ -273,6 +273,20 @@ TEST(ConvertMethods, FlipMethodReportsWhatIsLeft) {
     EXPECT_LT(r.hausdorff_rel, 0.05);
 }
 
+// Without the measure the report says "not measured", not "did not move"; the mesh is the same.
+TEST(ConvertMethods, HausdorffLeftOutIsNaNAndChangesNothingElse) {
+    const TriangleMesh input = adversarial("skewed_grid");
+    const ConversionResult measured = convert(input, {.method = ConvertMethod::flip});
+    const ConversionResult skipped = convert(input, {.method = ConvertMethod::flip, .measure_hausdorff = false});
+    EXPECT_TRUE(std::isnan(skipped.report.hausdorff_rel));
+    EXPECT_GT(measured.report.hausdorff_rel, 0.0);
+    EXPECT_EQ(skipped.report.flips, measured.report.flips);
+    EXPECT_EQ(skipped.mesh.V, measured.mesh.V);
+    EXPECT_EQ(skipped.mesh.F, measured.mesh.F);
+    // Split moves nothing: 0, measured or not.
+    EXPECT_EQ(convert(input, {.measure_hausdorff = false}).report.hausdorff_rel, 0.0);
+}
+
 // Far from the origin, a split point is rounded off its edge by an ulp of the coordinates, which
 // bends the spokes inside a face by more than the coplanar tolerance. Spokes are flat by
 // construction: taken for folds they were split (vertices inside faces, each as noisy), and the

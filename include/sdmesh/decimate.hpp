@@ -88,7 +88,8 @@ struct DecimateReport {
     DecimateStatus status = DecimateStatus::reached_target;
     double seconds = 0;
     /// Two-sided sampled Hausdorff distance output <-> input (hausdorff_distance with
-    /// samples_per_face = 4), relative to the input's bounding-box diagonal.
+    /// samples_per_face = 4), relative to the input's bounding-box diagonal; NaN when
+    /// options.measure_hausdorff is off and an edge was collapsed.
     double hausdorff_rel = 0;
     DelaunayCertificate certificate;  ///< of the output, under the same boundary policy
 };

@@ -18,7 +18,7 @@ namespace {
 constexpr const char* kConvertUsage =
     "sdmesh convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell] [--max-dihedral DEG] "
     "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--cascade-trials N] [--local-search PASSES] "
-    "[--lower-bound] [--repair] [--report FILE.json] [--progress]";
+    "[--lower-bound] [--repair] [--no-hausdorff] [--report FILE.json] [--progress]";
 
 }  // namespace
 
@@ -47,6 +47,7 @@ int run_convert(Args& args) {
     options.local_search = static_cast<int>(passes);
     options.lower_bound = args.flag("--lower-bound");
     options.progress = args.flag("--progress");
+    options.measure_hausdorff = !args.flag("--no-hausdorff");
     const bool repair_first = args.flag("--repair");
     const std::optional<std::string> report_path = args.option("--report");
     const auto paths = args.positionals(2, kConvertUsage);

@@ -20,7 +20,7 @@ namespace {
 
 constexpr const char* kDecimateUsage =
     "sdmesh decimate IN OUT (--target-vertices N | --target-ratio R) [--max-error REL] [--boundary strict|free] "
-    "[--convert-first] [--levels R1,R2,...] [--tolerance RAD] [--report FILE.json] [--progress]";
+    "[--convert-first] [--levels R1,R2,...] [--tolerance RAD] [--no-hausdorff] [--report FILE.json] [--progress]";
 
 // "0.5,0.2" -> {0.5, 0.2}.
 std::vector<double> parse_ratios(const std::string& text) {
@@ -71,6 +71,7 @@ int run_decimate(Args& args) {
     const bool convert_first = args.flag("--convert-first");
     const std::optional<std::string> levels_text = args.option("--levels");
     options.progress = args.flag("--progress");
+    options.measure_hausdorff = !args.flag("--no-hausdorff");
     const std::optional<std::string> report_path = args.option("--report");
     const auto paths = args.positionals(2, kDecimateUsage);
 

@@ -27,11 +27,11 @@ Commands:
   convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell]
           [--max-dihedral DEG] [--boundary strict|free] [--max-vertices N]
           [--cascade-trials N] [--local-search PASSES] [--lower-bound] [--repair]
-          [--report FILE.json] [--progress]
+          [--no-hausdorff] [--report FILE.json] [--progress]
                                   self-Delaunay conversion; exit 0 if certified, 1 if not
   decimate IN OUT (--target-vertices N | --target-ratio R) [--max-error REL]
           [--boundary strict|free] [--convert-first] [--levels R1,R2,...]
-          [--report FILE.json] [--progress]
+          [--no-hausdorff] [--report FILE.json] [--progress]
                                   Delaunay-preserving edge collapses of a self-Delaunay mesh;
                                   --levels also writes OUT_levelK for each ratio; exit 0 if
                                   the output is self-Delaunay (status reached_target or stalled)

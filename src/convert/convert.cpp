@@ -226,10 +226,15 @@ ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options
     if (options.method == ConvertMethod::flip)
         report.unflippable_edges = report.certificate.non_delaunay_edges +
                                    (options.boundary == BoundaryPolicy::strict ? report.certificate.boundary_obtuse_edges : 0);
-    if (options.measure_hausdorff && report.flips > 0 && options.method != ConvertMethod::split)
+    if (report.flips > 0 && options.method != ConvertMethod::split) {
+        if (options.progress && options.measure_hausdorff)
+            std::fprintf(stderr, "convert: measuring the Hausdorff distance to the input\n");
         // A few samples per face: the flips change the surface by a fraction of an edge length.
         report.hausdorff_rel =
-            hausdorff_distance(mesh, result.mesh, {.samples_per_face = 4, .max_samples = 4'000'000}).hausdorff_rel;
+            options.measure_hausdorff
+                ? hausdorff_distance(mesh, result.mesh, {.samples_per_face = 4, .max_samples = 4'000'000}).hausdorff_rel
+                : std::numeric_limits<double>::quiet_NaN();
+    }
     report.seconds = std::chrono::duration<double>(conversion::Clock::now() - start).count();
     return result;
 }
