@@ -231,6 +231,18 @@ TEST(DecimateInput, TinyClosedMeshStallsInsteadOfBreaking) {
     expect_same_topology_and_self_delaunay(ico, result.mesh, BoundaryPolicy::strict, "icosahedron");
 }
 
+// Without the measure the report says "not measured", not "did not move"; the mesh is the same.
+TEST(DecimateInput, HausdorffLeftOutIsNaNAndChangesNothingElse) {
+    const TriangleMesh sphere = make_icosphere(3);
+    const DecimateResult measured = decimate(sphere, {.target_ratio = 0.5});
+    const DecimateResult skipped = decimate(sphere, {.target_ratio = 0.5, .measure_hausdorff = false});
+    ASSERT_GT(measured.report.collapses, 0);
+    EXPECT_GT(measured.report.hausdorff_rel, 0.0);
+    EXPECT_TRUE(std::isnan(skipped.report.hausdorff_rel));
+    EXPECT_EQ(skipped.mesh.V, measured.mesh.V);
+    EXPECT_EQ(skipped.mesh.F, measured.mesh.F);
+}
+
 // Found by fuzz_pipeline: an empty mesh had no bounding box to order its vertices by.
 TEST(DecimateInput, EmptyMeshIsAlreadyAtItsTarget) {
     const DecimateResult result = decimate(TriangleMesh{}, {.target_ratio = 0.5});

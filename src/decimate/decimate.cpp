@@ -252,14 +252,15 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     report.output_vertices = result.mesh.num_vertices();
     report.output_faces = result.mesh.num_faces();
     report.certificate = certify(result.mesh, certify_options);
-    if (report.collapses > 0 && options.progress && options.measure_hausdorff)
-        std::fprintf(stderr, "decimate: measuring the Hausdorff distance to the input\n");
-    if (report.collapses > 0)
+    if (report.collapses > 0) {
+        if (options.progress && options.measure_hausdorff)
+            std::fprintf(stderr, "decimate: measuring the Hausdorff distance to the input\n");
         // A few samples per face of the input: the output's faces are larger, and sampled densely.
         report.hausdorff_rel =
             options.measure_hausdorff
                 ? hausdorff_distance(mesh, result.mesh, {.samples_per_face = 4, .max_samples = 4'000'000}).hausdorff_rel
                 : std::numeric_limits<double>::quiet_NaN();
+    }
     report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return result;
 }
