@@ -20,6 +20,8 @@ namespace {
 using Eigen::Vector3d;
 
 constexpr int kLeafSize = 4;
+// Subtrees of more faces than this are built as tasks of their own.
+constexpr int kParallelFaces = 1 << 14;
 // A median split halves the faces, so the depth is at most log2(2^31) = 31 and a traversal stack
 // holds at most depth + 1 entries.
 constexpr int kMaxStack = 64;
@@ -88,18 +90,22 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh) {
     require_finite_positions(mesh);
 
     std::vector<Vector3d> centroid(nf);
+#pragma omp parallel for schedule(static)
     for (int f = 0; f < nf; ++f)
         centroid[f] = (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))).transpose() / 3.0;
     std::vector<int> order(nf);
     std::iota(order.begin(), order.end(), 0);
-    nodes_.reserve(nf);  // leaves hold >= 2 faces when nf >= 2, so there are < nf nodes
-    build(order, centroid, 0, nf);
+    nodes_.resize(subtree_nodes(nf));
+#pragma omp parallel
+#pragma omp single
+    build(order, centroid, 0, nf, 0);
 
     face_ = std::move(order);
     slot_.resize(nf);
-    for (int i = 0; i < nf; ++i) slot_[face_[i]] = i;
     triangles_.resize(nf);
+#pragma omp parallel for schedule(static)
     for (int i = 0; i < nf; ++i) {
+        slot_[face_[i]] = i;
         Triangle& t = triangles_[i];
         for (int k = 0; k < 3; ++k) t.corner[k] = mesh.V.row(mesh.F(face_[i], k)).transpose();
         t.normal = trusted_normal(t.corner[0], t.corner[1], t.corner[2]);
@@ -116,13 +122,37 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh) {
     }
 }
 
-int TriangleTree::build(std::vector<int>& order, const std::vector<Vector3d>& centroid, int begin, int end) {
-    const int index = static_cast<int>(nodes_.size());
-    nodes_.emplace_back();
+int TriangleTree::subtree_nodes(int faces) {
+    // The nodes at depth d hold ⌊faces / 2^d⌋ or ⌈faces / 2^d⌉ faces: two sizes a level.
+    struct Sizes {
+        int size[2] = {0, 0}, count[2] = {0, 0};
+        void add(int n, int times) {
+            const int slot = count[0] == 0 || size[0] == n ? 0 : 1;
+            size[slot] = n, count[slot] += times;
+        }
+    };
+    int nodes = 0;
+    Sizes level;
+    level.add(faces, 1);
+    while (level.count[0] + level.count[1] > 0) {
+        Sizes below;
+        for (int slot = 0; slot < 2; ++slot) {
+            nodes += level.count[slot];
+            if (level.count[slot] == 0 || level.size[slot] <= kLeafSize) continue;
+            below.add(level.size[slot] / 2, level.count[slot]);
+            below.add(level.size[slot] - level.size[slot] / 2, level.count[slot]);
+        }
+        level = below;
+    }
+    return nodes;
+}
+
+void TriangleTree::build(std::vector<int>& order, const std::vector<Vector3d>& centroid, int begin, int end,
+                         int index) {
     if (end - begin <= kLeafSize) {
         nodes_[index].first = begin;
         nodes_[index].count = end - begin;
-        return index;
+        return;
     }
     Eigen::AlignedBox3d spread;
     for (int i = begin; i < end; ++i) spread.extend(centroid[order[i]]);
@@ -134,10 +164,13 @@ int TriangleTree::build(std::vector<int>& order, const std::vector<Vector3d>& ce
     };
     const int mid = begin + (end - begin) / 2;
     std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end, before);
-    build(order, centroid, begin, mid);
-    const int right = build(order, centroid, mid, end);
+    // Each subtree has its place in nodes_ (depth-first), so the halves are built side by side.
+    const int right = index + 1 + subtree_nodes(mid - begin);
     nodes_[index].first = right;
-    return index;
+#pragma omp task default(shared) if (end - begin > kParallelFaces)
+    build(order, centroid, begin, mid, index + 1);
+    build(order, centroid, mid, end, right);
+#pragma omp taskwait
 }
 
 ClosestPoint TriangleTree::closest_point(const Vector3d& query) const {
@@ -200,10 +233,12 @@ TriangleTree tree_of(const TriangleMesh& mesh, const char* which) {
     }
 }
 
-std::vector<int> referenced_vertices(const TriangleMesh& mesh) {
+// The vertices of the faces flagged in `faces` (all faces when null), in order.
+std::vector<int> referenced_vertices(const TriangleMesh& mesh, const std::vector<char>* faces) {
     std::vector<char> used(mesh.num_vertices(), 0);
     for (int f = 0; f < mesh.num_faces(); ++f)
-        for (int k = 0; k < 3; ++k) used[mesh.F(f, k)] = 1;
+        if (!faces || (*faces)[f])
+            for (int k = 0; k < 3; ++k) used[mesh.F(f, k)] = 1;
     std::vector<int> vertices;
     for (int v = 0; v < mesh.num_vertices(); ++v)
         if (used[v]) vertices.push_back(v);
@@ -217,46 +252,60 @@ int face_resolution(long long num_vertices, long long num_faces, const Hausdorff
     return k;
 }
 
-// Distances from the samples of `from` to the surface held by `to`.
-OneSided sample_distances(const TriangleMesh& from, const TriangleTree& to, const HausdorffOptions& options) {
-    const auto distance = [&to](const Vector3d& x) { return std::sqrt(to.closest_point(x).squared_distance); };
-    const std::vector<int> vertices = referenced_vertices(from);
+// Distances from the samples of `from` to the surface held by `to`; only on the faces flagged in
+// `faces` (and their vertices) when it is not null, the others counting as at distance 0. The
+// density is that of the whole mesh either way.
+OneSided sample_distances(const TriangleMesh& from, const TriangleTree& to, const HausdorffOptions& options,
+                          const std::vector<char>* faces) {
+    const std::vector<int> all_vertices = referenced_vertices(from, nullptr);
+    const std::vector<int> flagged_vertices = faces ? referenced_vertices(from, faces) : std::vector<int>{};
+    const std::vector<int>& vertices = faces ? flagged_vertices : all_vertices;
     const int nv = static_cast<int>(vertices.size()), nf = from.num_faces();
-    const int k = face_resolution(nv, nf, options);
+    const int k = face_resolution(static_cast<long long>(all_vertices.size()), nf, options);
 
+    // Each search starts from the face nearest to the previous sample of its thread, usually
+    // next to it (files list neighbours near each other): the distance found is the same from any
+    // start, only the search is shorter.
     double worst = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(max : worst)
-    for (int i = 0; i < nv; ++i) worst = std::max(worst, distance(from.V.row(vertices[i]).transpose()));
-
-    // Face f's samples are a + v·(b - a) + w·(c - a): the centroids of the k² sub-triangles of a
-    // k-subdivision (weights for the mean) and the three edge midpoints.
-    std::vector<double> face_mean(nf), area(nf);
-#pragma omp parallel for schedule(dynamic, 64) reduction(max : worst)
-    for (int f = 0; f < nf; ++f) {
-        const Vector3d a = from.V.row(from.F(f, 0)).transpose();
-        const Vector3d ab = from.V.row(from.F(f, 1)).transpose() - a;
-        const Vector3d ac = from.V.row(from.F(f, 2)).transpose() - a;
-        // Each sample's search starts from the face nearest to the previous one.
+    std::vector<double> face_mean(nf, 0.0), area(nf);
+    long long sampled_faces = 0;
+#pragma omp parallel
+    {
         int near_face = -1;
-        const auto sample = [&](double v, double w) {
-            const Vector3d x = a + v * ab + w * ac;
+        const auto nearest = [&](const Vector3d& x) {
             const ClosestPoint hit = near_face < 0 ? to.closest_point(x) : to.closest_point(x, near_face);
             near_face = hit.face;
-            const double d = std::sqrt(hit.squared_distance);
-            worst = std::max(worst, d);
-            return d;
+            return std::sqrt(hit.squared_distance);
         };
-        sample(0.5, 0.0);
-        sample(0.0, 0.5);
-        sample(0.5, 0.5);
-        double sum = 0;
-        for (int i = 0; i < k; ++i)
-            for (int j = 0; i + j < k; ++j) {
-                sum += sample((i + 1.0 / 3) / k, (j + 1.0 / 3) / k);
-                if (i + j + 1 < k) sum += sample((i + 2.0 / 3) / k, (j + 2.0 / 3) / k);
-            }
-        face_mean[f] = sum / (k * k);
-        area[f] = 0.5 * ab.cross(ac).norm();
+#pragma omp for schedule(dynamic, 256) reduction(max : worst)
+        for (int i = 0; i < nv; ++i) worst = std::max(worst, nearest(from.V.row(vertices[i]).transpose()));
+
+        // Face f's samples are a + v·(b - a) + w·(c - a): the centroids of the k² sub-triangles of
+        // a k-subdivision (weights for the mean) and the three edge midpoints.
+#pragma omp for schedule(dynamic, 64) reduction(max : worst) reduction(+ : sampled_faces)
+        for (int f = 0; f < nf; ++f) {
+            const Vector3d a = from.V.row(from.F(f, 0)).transpose();
+            const Vector3d ab = from.V.row(from.F(f, 1)).transpose() - a;
+            const Vector3d ac = from.V.row(from.F(f, 2)).transpose() - a;
+            area[f] = 0.5 * ab.cross(ac).norm();
+            if (faces && !(*faces)[f]) continue;
+            ++sampled_faces;
+            const auto sample = [&](double v, double w) {
+                const double d = nearest(a + v * ab + w * ac);
+                worst = std::max(worst, d);
+                return d;
+            };
+            sample(0.5, 0.0);
+            sample(0.0, 0.5);
+            sample(0.5, 0.5);
+            double sum = 0;
+            for (int i = 0; i < k; ++i)
+                for (int j = 0; i + j < k; ++j) {
+                    sum += sample((i + 1.0 / 3) / k, (j + 1.0 / 3) / k);
+                    if (i + j + 1 < k) sum += sample((i + 2.0 / 3) / k, (j + 2.0 / 3) / k);
+                }
+            face_mean[f] = sum / (k * k);
+        }
     }
 
     // A mesh of zero area weights its faces equally.
@@ -264,27 +313,35 @@ OneSided sample_distances(const TriangleMesh& from, const TriangleTree& to, cons
     double weighted = 0;
     for (int f = 0; f < nf; ++f) weighted += (total_area > 0 ? area[f] : 1.0) * face_mean[f];
     return {worst, weighted / (total_area > 0 ? total_area : nf),
-            nv + static_cast<long long>(nf) * (static_cast<long long>(k) * k + 3)};
+            nv + sampled_faces * (static_cast<long long>(k) * k + 3)};
 }
 
-}  // namespace
+// The faces of `mesh` that meet a triangle of `replaced`, found from each face's centroid: a face
+// that meets one lies within its circumradius about the centroid of it.
+std::vector<char> faces_meeting(const TriangleMesh& mesh, const TriangleMesh& replaced) {
+    std::vector<char> meets(mesh.num_faces(), 0);
+    if (replaced.num_faces() == 0) return meets;
+    const TriangleTree tree = tree_of(replaced, "replaced");
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+        Vector3d centroid = Vector3d::Zero();
+        for (int k = 0; k < 3; ++k) centroid += mesh.V.row(mesh.F(f, k)).transpose() / 3.0;
+        double radius2 = 0;
+        for (int k = 0; k < 3; ++k)
+            radius2 = std::max(radius2, (mesh.V.row(mesh.F(f, k)).transpose() - centroid).squaredNorm());
+        // Rounding of the centroid and of the distance: a relative margin.
+        meets[f] = tree.closest_point(centroid).squared_distance <= radius2 * (1 + 1e-9) ? 1 : 0;
+    }
+    return meets;
+}
 
-HausdorffReport hausdorff_distance(const TriangleMesh& a, const TriangleMesh& b, const HausdorffOptions& options) {
-    if (options.samples_per_face < 1 || options.max_samples < 1)
-        throw InvalidArgumentError("hausdorff_distance: samples_per_face (" + std::to_string(options.samples_per_face) +
-                                   ") and max_samples (" + std::to_string(options.max_samples) + ") must be >= 1");
-    // Both meshes are measured at the scale of a unit diagonal of the first, by a power of two
-    // (exact; copies only far from it): normals are cross products, whose squared norms overflow
-    // from coordinates of about 1e75 on (every face then looked too thin to have one).
-    const int exponent = far_unit_exponent(bounding_box_diagonal(a));
-    std::optional<TriangleMesh> scaled_a, scaled_b;
-    if (exponent != 0) scaled_a = scaled_by_power_of_two(a, -exponent), scaled_b = scaled_by_power_of_two(b, -exponent);
-    const TriangleMesh& unit_a = scaled_a ? *scaled_a : a;
-    const TriangleMesh& unit_b = scaled_b ? *scaled_b : b;
-    const TriangleTree tree_a = tree_of(unit_a, "first");
-    const TriangleTree tree_b = tree_of(unit_b, "second");
-    const OneSided forward = sample_distances(unit_a, tree_b, options);
-    const OneSided backward = sample_distances(unit_b, tree_a, options);
+// Both directions, on the faces flagged in a_faces and b_faces (all when null); the sample
+// density is that of the whole meshes.
+HausdorffReport measure(const TriangleMesh& a, const TriangleMesh& b, const HausdorffOptions& options,
+                        const TriangleTree& tree_a, const TriangleTree& tree_b, const std::vector<char>* a_faces,
+                        const std::vector<char>* b_faces, int exponent) {
+    const OneSided forward = sample_distances(a, tree_b, options, a_faces);
+    const OneSided backward = sample_distances(b, tree_a, options, b_faces);
 
     const auto in_input_units = [exponent](double length) { return std::ldexp(length, exponent); };
     HausdorffReport report;
@@ -296,6 +353,58 @@ HausdorffReport hausdorff_distance(const TriangleMesh& a, const TriangleMesh& b,
     report.mean_forward = in_input_units(forward.mean);
     report.samples = forward.samples + backward.samples;
     return report;
+}
+
+void check(const HausdorffOptions& options) {
+    if (options.samples_per_face < 1 || options.max_samples < 1)
+        throw InvalidArgumentError("hausdorff_distance: samples_per_face (" + std::to_string(options.samples_per_face) +
+                                   ") and max_samples (" + std::to_string(options.max_samples) + ") must be >= 1");
+}
+
+// Both meshes are measured at the scale of a unit diagonal of the first, by a power of two
+// (exact; copies only far from it): normals are cross products, whose squared norms overflow
+// from coordinates of about 1e75 on (every face then looked too thin to have one).
+struct AtUnitScale {
+    explicit AtUnitScale(const TriangleMesh& reference) : exponent(far_unit_exponent(bounding_box_diagonal(reference))) {}
+    const TriangleMesh& operator()(const TriangleMesh& mesh, std::optional<TriangleMesh>& copy) const {
+        if (exponent == 0) return mesh;
+        copy = scaled_by_power_of_two(mesh, -exponent);
+        return *copy;
+    }
+    int exponent;
+};
+
+}  // namespace
+
+HausdorffReport hausdorff_distance(const TriangleMesh& a, const TriangleMesh& b, const HausdorffOptions& options) {
+    check(options);
+    const AtUnitScale unit(a);
+    std::optional<TriangleMesh> copy_a, copy_b;
+    const TriangleMesh& unit_a = unit(a, copy_a);
+    const TriangleMesh& unit_b = unit(b, copy_b);
+    return measure(unit_a, unit_b, options, tree_of(unit_a, "first"), tree_of(unit_b, "second"), nullptr, nullptr,
+                   unit.exponent);
+}
+
+HausdorffReport hausdorff_distance_of_edit(const TriangleMesh& a, const TriangleMesh& b, const SurfaceEdit& edit,
+                                           const HausdorffOptions& options) {
+    check(options);
+    auto require_flags = [](const std::vector<char>& flags, const TriangleMesh& mesh, const char* which) {
+        if (static_cast<int>(flags.size()) != mesh.num_faces())
+            throw InvalidArgumentError(std::string("hausdorff_distance_of_edit: ") + std::to_string(flags.size()) +
+                                       " " + which + " flags for a mesh of " + std::to_string(mesh.num_faces()) +
+                                       " faces");
+    };
+    require_flags(edit.changed_faces, b, "changed-face");
+    if (!edit.replaced_faces.empty()) require_flags(edit.replaced_faces, a, "replaced-face");
+    const AtUnitScale unit(a);
+    std::optional<TriangleMesh> copy_a, copy_b, copy_replaced;
+    const TriangleMesh& unit_a = unit(a, copy_a);
+    const TriangleMesh& unit_b = unit(b, copy_b);
+    std::vector<char> a_faces = faces_meeting(unit_a, unit(edit.replaced, copy_replaced));
+    for (size_t f = 0; f < edit.replaced_faces.size(); ++f) a_faces[f] = a_faces[f] || edit.replaced_faces[f];
+    return measure(unit_a, unit_b, options, tree_of(unit_a, "first"), tree_of(unit_b, "second"), &a_faces,
+                   &edit.changed_faces, unit.exponent);
 }
 
 }  // namespace sdmesh

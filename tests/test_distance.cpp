@@ -307,5 +307,55 @@ TEST(Hausdorff, BitIdenticalAcrossRunsAndThreadCounts) {
     EXPECT_GT(serial.forward, 0);
 }
 
+// A sphere with a cap pushed out: the edit is measured on the cap's faces only, and gives the
+// same distances as the whole measure, with the cap given as faces of A or as triangles.
+TEST(HausdorffOfEdit, MeasuresOnlyTheChangedFacesAndAgreesWithTheWhole) {
+    const TriangleMesh a = make_icosphere(3);
+    TriangleMesh b = a;
+    std::vector<char> moved_vertex(a.num_vertices(), 0);
+    for (int v = 0; v < a.num_vertices(); ++v)
+        if (a.V(v, 2) > 0.8) b.V.row(v) *= 1.05, moved_vertex[v] = 1;
+    SurfaceEdit edit;
+    edit.changed_faces.assign(b.num_faces(), 0);
+    std::vector<int> cap;
+    for (int f = 0; f < a.num_faces(); ++f)
+        if (moved_vertex[a.F(f, 0)] || moved_vertex[a.F(f, 1)] || moved_vertex[a.F(f, 2)])
+            edit.changed_faces[f] = 1, cap.push_back(f);
+    ASSERT_GT(cap.size(), 10u);
+    ASSERT_LT(cap.size(), a.num_faces() / 4);
+    edit.replaced_faces = edit.changed_faces;  // b has a's faces
+
+    const HausdorffReport whole = hausdorff_distance(a, b);
+    const HausdorffReport by_faces = hausdorff_distance_of_edit(a, b, edit);
+    EXPECT_EQ(by_faces.forward, whole.forward);
+    EXPECT_EQ(by_faces.backward, whole.backward);
+    EXPECT_EQ(by_faces.hausdorff_rel, whole.hausdorff_rel);
+    EXPECT_NEAR(by_faces.mean_forward, whole.mean_forward, 1e-12);
+    EXPECT_LT(by_faces.samples, whole.samples / 2);
+
+    // The same cap as separate triangles of A: the faces they meet are found by distance.
+    SurfaceEdit by_triangles{edit.changed_faces, {}, {}};
+    by_triangles.replaced.V.resize(3 * static_cast<Eigen::Index>(cap.size()), 3);
+    by_triangles.replaced.F.resize(static_cast<Eigen::Index>(cap.size()), 3);
+    for (size_t t = 0; t < cap.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            by_triangles.replaced.V.row(3 * t + k) = a.V.row(a.F(cap[t], k));
+            by_triangles.replaced.F(t, k) = static_cast<int>(3 * t + k);
+        }
+    const HausdorffReport by_distance = hausdorff_distance_of_edit(a, b, by_triangles);
+    EXPECT_EQ(by_distance.hausdorff_rel, whole.hausdorff_rel);
+    EXPECT_GE(by_distance.samples, by_faces.samples);  // the faces beside the cap too
+    EXPECT_LT(by_distance.samples, whole.samples);
+
+    // Nothing changed: nothing measured.
+    const HausdorffReport none = hausdorff_distance_of_edit(a, a, {std::vector<char>(a.num_faces(), 0), {}, {}});
+    EXPECT_EQ(none.hausdorff, 0.0);
+    EXPECT_EQ(none.samples, 0);
+
+    EXPECT_THROW(hausdorff_distance_of_edit(a, b, {std::vector<char>(3, 0), {}, {}}), InvalidArgumentError);
+    EXPECT_THROW(hausdorff_distance_of_edit(a, b, {edit.changed_faces, std::vector<char>(3, 0), {}}),
+                 InvalidArgumentError);
+}
+
 }  // namespace
 }  // namespace sdmesh

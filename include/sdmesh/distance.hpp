@@ -68,7 +68,10 @@ private:
         int count = 0;
     };
 
-    int build(std::vector<int>& order, const std::vector<Eigen::Vector3d>& centroid, int begin, int end);
+    // Nodes of a subtree over that many faces.
+    static int subtree_nodes(int faces);
+    // The subtree over order[begin, end) at nodes_[index], and its subtrees after it.
+    void build(std::vector<int>& order, const std::vector<Eigen::Vector3d>& centroid, int begin, int end, int index);
     // The nearest point of the faces that are nearer than `best`, else best.
     [[nodiscard]] ClosestPoint search(const Eigen::Vector3d& query, ClosestPoint best) const;
 
@@ -107,5 +110,26 @@ struct HausdorffReport {
 /// \throws InvalidMeshError as TriangleTree, for either mesh.
 /// \throws InvalidArgumentError samples_per_face < 1 or max_samples < 1.
 HausdorffReport hausdorff_distance(const TriangleMesh& a, const TriangleMesh& b, const HausdorffOptions& options = {});
+
+/// Where a mesh b made from a mesh a by changing some of its faces can leave a's surface, and
+/// where b can leave part of a's surface uncovered.
+struct SurfaceEdit {
+    /// By face of b: may leave a's surface. Unflagged faces must lie in it.
+    std::vector<char> changed_faces;
+    /// By face of a: parts of it may be uncovered by b's unflagged faces (empty: none flagged).
+    std::vector<char> replaced_faces;
+    /// More of a's surface that may be uncovered, as triangles lying in it; the faces of a that
+    /// meet them are found by distance.
+    TriangleMesh replaced;
+};
+
+/// hausdorff_distance(a, b, options) measured only where an edit can have changed the surface:
+/// on b's changed faces and on a's faces that are replaced or meet `replaced`. Samples elsewhere
+/// are at distance 0 up to rounding and are skipped at the same density, so the result is
+/// hausdorff_distance's unless that is a rounding error (then 0); `samples` counts the samples
+/// measured. Conversion by flips uses it: its changes are local.
+/// \throws as hausdorff_distance; InvalidArgumentError when the flags do not match the meshes' faces.
+HausdorffReport hausdorff_distance_of_edit(const TriangleMesh& a, const TriangleMesh& b, const SurfaceEdit& edit,
+                                           const HausdorffOptions& options = {});
 
 }  // namespace sdmesh

@@ -138,7 +138,8 @@ public:
           input_vertices_(mesh.num_vertices()),
           flat_angle_(flat_angle(options)),
           coplanar_angle_(options.coplanar_tolerance),
-          tan_tolerance_(std::tan(options.tolerance)) {
+          tan_tolerance_(std::tan(options.tolerance)),
+          tracks_moves_(options.method != ConvertMethod::split) {
         const double diagonal = bounding_box_diagonal(mesh);  // in the supported range (convert checks)
         // The work is done at the scale of a unit diagonal, by a power of two (exact both ways):
         // far from it, the products of lengths in the tests overflow or underflow (the bunny
@@ -152,6 +153,7 @@ public:
         input_edge_.resize(static_cast<size_t>(mesh_.num_edges()));
         for (int e = 0; e < mesh_.num_edges(); ++e) input_edge_[e] = e;
         in_plane_.assign(static_cast<size_t>(mesh_.num_edges()), 0);
+        if (tracks_moves_) moved_.assign(static_cast<size_t>(mesh_.num_faces()), 0);
         input_length_.resize(static_cast<size_t>(mesh_.num_edges()));
         input_flat_.resize(static_cast<size_t>(mesh_.num_edges()));
 #pragma omp parallel for schedule(static)
@@ -165,6 +167,9 @@ public:
     void run(ConversionReport& report);
 
     TriangleMesh result() const;
+    // Where flips across folds moved the surface, for hausdorff_distance_of_edit.
+    // \pre not the split method (whose faces never move and are not tracked).
+    SurfaceEdit surface_edit() const;
 
 private:
     // Pops until the queues are empty, a budget is reached, or the split that would make
@@ -268,6 +273,10 @@ private:
     // they are. Returns which input edges got or lost points (empty if none did).
     std::vector<char> fewest_points_per_edge(ConversionReport& report);
 
+    // By input face: its plane, the representative of the input faces joined to it across
+    // input edges that are flat at the coplanar tolerance (itself when none is).
+    std::vector<int> input_planes() const;
+
     // Inside a trial, writes to entries that existed before it are recorded first.
     template <class T>
     static void write(std::vector<T>& array, int i, T value, size_t existing, std::vector<std::pair<int, T>>* log) {
@@ -286,11 +295,27 @@ private:
     void set_pieces(int point, std::array<int, 2> value) {
         write(pieces_, point, value, trial_ ? trial_->points - input_vertices_ : 0, trial_ ? &trial_->pieces : nullptr);
     }
+    // Marks face f as moved, keeping what it covered of the input surface.
+    void set_moved(int f) {
+        if (moved_[f]) return;
+        replaced_.push_back({{mesh_.corner(f, 0), mesh_.corner(f, 1), mesh_.corner(f, 2)}, home_[f]});
+        write(moved_, f, char{1}, trial_ ? trial_->faces : 0, trial_ ? &trial_->moved : nullptr);
+    }
+    void set_home(int f, int home) { write(home_, f, home, trial_ ? trial_->faces : 0, trial_ ? &trial_->home : nullptr); }
+    int plane_of_home(int home) const { return home >= 0 ? input_plane_[home] : home == kSpansPlanes ? -1 : -2 - home; }
+    // The home of the two faces a flip makes from faces at homes g and h.
+    int merged_home(int g, int h) const {
+        if (g == h) return g;
+        const int plane = plane_of_home(g);
+        return plane >= 0 && plane == plane_of_home(h) ? -2 - plane : kSpansPlanes;
+    }
 
     void begin_trial() {
         trial_.emplace();
         trial_->points = P_.size();
         trial_->edges = static_cast<size_t>(mesh_.num_edges());
+        trial_->faces = static_cast<size_t>(mesh_.num_faces());
+        trial_->replaced = replaced_.size();
         mesh_.begin_trial();
     }
     void rollback() {
@@ -300,10 +325,12 @@ private:
         };
         undo(input_edge_, trial_->input_edge), undo(in_plane_, trial_->in_plane);
         undo(removed_, trial_->removed), undo(pieces_, trial_->pieces);
+        undo(moved_, trial_->moved), undo(home_, trial_->home);
         const size_t points = trial_->points - input_vertices_, edges = trial_->edges;
         P_.resize(trial_->points);
         vertex_input_edge_.resize(points), removed_.resize(points), pieces_.resize(points);
         input_edge_.resize(edges), in_plane_.resize(edges), queued_.resize(edges);
+        if (tracks_moves_) moved_.resize(trial_->faces), home_.resize(trial_->faces), replaced_.resize(trial_->replaced);
         mesh_.rollback();
         trial_.reset();
     }
@@ -674,13 +701,32 @@ private:
     std::vector<char> removed_;  // by split point: removed again
     long long vertex_budget_ = 0, flip_budget_ = 0;
     std::vector<std::array<int, 2>> pieces_;  // by split point on an input edge: its two pieces
+    // Only flips across folds (hybrid, flip) move faces; point removal, which merges faces,
+    // runs only where none moves (split).
+    const bool tracks_moves_;
+    // By face: may have left the input surface (made by a flip across a fold, or from a face
+    // that was); the others lie in it.
+    std::vector<char> moved_;
+    // By face, where it lies in the input surface: inside input face h >= 0, or in plane p (see
+    // input_planes) as h = -2 - p, or kSpansPlanes when moved or made by a flip across two
+    // planes (which rounding of the coplanar test allows). Set once the input is classified.
+    static constexpr int kSpansPlanes = -1;
+    std::vector<int> home_;
+    std::vector<int> input_plane_;  // by input face: input_planes()
+    // The faces that were in the input surface when they moved: they cover all of it that the
+    // faces never moved leave uncovered.
+    struct Replaced {
+        std::array<int, 3> corners;
+        int home;
+    };
+    std::vector<Replaced> replaced_;
     // By edge: in a queue. Every edge not locally Delaunay is, but the one being split.
     std::vector<char> queued_;
     // The open trial of local_search(): what to take back if it does not pay.
     struct Trial {
-        size_t points, edges;  // P_.size(), mesh_.num_edges() at its start
-        std::vector<std::pair<int, int>> input_edge;
-        std::vector<std::pair<int, char>> in_plane, removed;
+        size_t points, edges, faces, replaced;  // P_, mesh_'s edges and faces, replaced_ at its start
+        std::vector<std::pair<int, int>> input_edge, home;
+        std::vector<std::pair<int, char>> in_plane, removed, moved;
         std::vector<std::pair<int, std::array<int, 2>>> pieces;
     };
     std::optional<Trial> trial_;

@@ -5,21 +5,25 @@
 
 namespace sdmesh::conversion {
 
+std::vector<int> Converter::input_planes() const {
+    const int input_faces = static_cast<int>(input_.F.rows());
+    UnionFind planes(input_faces);
+    for (int e = 0; e < input_edges_.num_edges(); ++e)
+        if (const int g = input_edges_.edge_halfedges(e, 1); input_flat_[e] && g >= 0)
+            planes.unite(input_edges_.edge_halfedges(e, 0) / 3, g / 3);
+    std::vector<int> plane_of(static_cast<size_t>(input_faces));
+    for (int f = 0; f < input_faces; ++f) plane_of[f] = planes.find(f);
+    return plane_of;
+}
+
 void Converter::remove_unneeded_points(ConversionReport& report, const std::vector<char>* changed) {
     const int input_faces = static_cast<int>(input_.F.rows()), edges = input_edges_.num_edges();
     auto faces_of = [&](int e) {
         const int g = input_edges_.edge_halfedges(e, 1);
         return std::array<int, 2>{input_edges_.edge_halfedges(e, 0) / 3, g < 0 ? -1 : g / 3};
     };
-    // Planes: input faces joined across flat input edges (one face each without them).
     const bool any_flat = std::find(input_flat_.begin(), input_flat_.end(), 1) != input_flat_.end();
-    std::vector<int> plane_of(any_flat ? input_faces : 0);  // by face: its plane's representative
-    if (any_flat) {
-        UnionFind planes(input_faces);
-        for (int e = 0; e < edges; ++e)
-            if (input_flat_[e]) planes.unite(faces_of(e)[0], faces_of(e)[1]);
-        for (int f = 0; f < input_faces; ++f) plane_of[f] = planes.find(f);
-    }
+    const std::vector<int> plane_of = any_flat ? input_planes() : std::vector<int>{};
     const Buckets plane_faces(any_flat ? input_faces : 0, any_flat ? input_faces : 0,
                               [&](int f) { return plane_of[f]; });
     auto for_each_face_in_plane_of = [&](int f, auto&& visit) {
