@@ -86,7 +86,8 @@ def convert_one(sdmesh, mesh, method, work, timeout):
     code, message, seconds = run([sdmesh, "convert", str(mesh), str(converted), "--report", str(report),
                                   *METHODS[method]], timeout)
     row = {"mesh": source_name(mesh, work), "method": method, "exit": code, "wall_seconds": f"{seconds:.2f}",
-           "message": message[0] if code != 0 else ""}
+           # The mesh's name, not the scratch folder's: the table stays the same from run to run.
+           "message": message[0].replace(str(mesh), source_name(mesh, work)) if code != 0 else ""}
     if code == 6:  # an invalid mesh: what the safe repairs make of it
         row["exit_with_repair"], _, _ = run([sdmesh, "convert", str(mesh), str(converted), "--repair",
                                              *METHODS[method]], timeout)
