@@ -316,8 +316,8 @@ OneSided sample_distances(const TriangleMesh& from, const TriangleTree& to, cons
             nv + sampled_faces * (static_cast<long long>(k) * k + 3)};
 }
 
-// The faces of `mesh` that meet a triangle of `replaced`, found from each face's centroid: a face
-// that meets one lies within its circumradius about the centroid of it.
+// The faces of `mesh` that may meet a triangle of `replaced`: those with a triangle within their
+// largest centroid-to-corner distance of their centroid (every point of a face is that close).
 std::vector<char> faces_meeting(const TriangleMesh& mesh, const TriangleMesh& replaced) {
     std::vector<char> meets(mesh.num_faces(), 0);
     if (replaced.num_faces() == 0) return meets;
