@@ -13,6 +13,7 @@
 
 #include "fuzz_input.hpp"
 #include "sdmesh/convert.hpp"
+#include "sdmesh/distance.hpp"
 #include "sdmesh/decimate.hpp"
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/eigen.hpp"
@@ -159,6 +160,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         require((result.mesh.V.topRows(mesh.num_vertices()).array() == mesh.V.array()).all());
         check_operators(result.mesh);
         const sdmesh::ConversionReport& report = result.report;
+        if (options.method != sdmesh::ConvertMethod::split) {
+            // Measured only where flips moved the surface: what sampling both meshes whole gives,
+            // or 0 where that is rounding alone.
+            const double whole =
+                sdmesh::hausdorff_distance(mesh, result.mesh, {.samples_per_face = 4, .max_samples = 4'000'000})
+                    .hausdorff_rel;
+            require(report.hausdorff_rel == whole || (report.hausdorff_rel == 0 && whole < 1e-12));
+        }
         if (options.method == sdmesh::ConvertMethod::split) {
             require(report.added_vertices_lower_bound >= report.input_nonflat_non_delaunay_edges);
             // A bound above what a conversion that moves nothing added would be wrong.
