@@ -424,7 +424,7 @@ report["self_delaunay"] is the verdict. Raises InvalidMeshError (index out of ra
 Converts a manifold mesh into a self-Delaunay mesh (method "split", "hybrid" or "flip"; see
 sdmesh/convert.hpp). cascade_trials: split positions tried where a split must break a side
 (0: none). local_search: passes of local search after a split conversion, for fewer
-vertices at more time (0: none). measure_hausdorff=False skips report["hausdorff_rel"] (NaN then,
+vertices at more time (0: none). measure_hausdorff=False skips report["hausdorff_rel"] (None then,
 where flips may have moved the surface). New vertices come after the input's. report: the keys of `sdmesh convert`'s
 JSON except input/output; report["status"] is "certified", "budget_exhausted" or "not_certified".
 Raises InvalidMeshError (run a repair first), InvalidArgumentError.)");

@@ -91,6 +91,16 @@ def test_convert_equals_the_cli(cli, tmp_path, bunny_path, bunny, converted_bunn
     assert sdmesh.check(V, F)["self_delaunay"]
 
 
+def test_convert_without_hausdorff_equals_the_cli(cli, tmp_path, bunny_path, bunny):
+    done = cli("convert", bunny_path, tmp_path / "out.obj", "--method", "hybrid", "--no-hausdorff")
+    expected = cli_json(done)
+    del expected["input"], expected["output"]
+    V, F, report = sdmesh.convert(*bunny, method="hybrid", measure_hausdorff=False)
+    assert without_timings(report) == without_timings(expected)
+    assert report["hausdorff_rel"] is None  # not measured; measured, the flips moved the bunny
+    assert sdmesh.convert(*bunny, method="hybrid")[2]["hausdorff_rel"] > 0
+
+
 @pytest.mark.parametrize("option, value", [("local_search", 1), ("cascade_trials", 0)])
 def test_convert_options_equal_the_cli(cli, tmp_path, bunny_path, bunny, option, value):
     flag = "--" + option.replace("_", "-")
