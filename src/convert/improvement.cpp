@@ -5,17 +5,6 @@
 
 namespace sdmesh::conversion {
 
-std::vector<int> Converter::input_planes() const {
-    const int input_faces = static_cast<int>(input_.F.rows());
-    UnionFind planes(input_faces);
-    for (int e = 0; e < input_edges_.num_edges(); ++e)
-        if (const int g = input_edges_.edge_halfedges(e, 1); input_flat_[e] && g >= 0)
-            planes.unite(input_edges_.edge_halfedges(e, 0) / 3, g / 3);
-    std::vector<int> plane_of(static_cast<size_t>(input_faces));
-    for (int f = 0; f < input_faces; ++f) plane_of[f] = planes.find(f);
-    return plane_of;
-}
-
 void Converter::remove_unneeded_points(ConversionReport& report, const std::vector<char>* changed) {
     const int input_faces = static_cast<int>(input_.F.rows()), edges = input_edges_.num_edges();
     auto faces_of = [&](int e) {
