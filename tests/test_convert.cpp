@@ -463,6 +463,49 @@ TEST(ConvertMethods, AStripOfLongFacesTakesOneRingOfPoints) {
     EXPECT_LE(r.added_vertices_lower_bound, 40 + 37);
 }
 
+// A corner of cgal_cheese.off (CC0): a fillet along x, a strip of long thin faces (corners of
+// 2.8-5.3°) whose facets are planes of two or three faces, meets the flat side x = 0.0025. A
+// split point on one long edge of a facet sees the facet's far long edge from across the plane;
+// there, at its foot, the next point makes a right angle with it, and the points go around
+// the strip at one x. Placed by the interval rule alone, they took 13 vertices for the 2
+// non-Delaunay edges (strict boundary: 40 for 4); the bound is 2 (7).
+TEST(ConvertMethods, APointAcrossAPlaneTakesItsFootOnTheFarSide) {
+    const TriangleMesh corner = make_mesh(
+        {{0.007303, -0.007303, 0.0340280011},         {0.006726, -0.006726, 0.035108},
+         {0.0063700001, -0.0063700001, 0.0362810008}, {0.0062799999, -0.0062799999, 0.0368870012},
+         {0.0062500001, -0.0062500001, 0.0375000015}, {0.0024999999, 0.0021200001, 0.0375000015},
+         {0.0024999999, -0.0062500001, 0.0375000015}, {0.0024999999, -0.0064630001, 0.0391179994},
+         {0.0024999999, -0.0070870002, 0.0406249985}, {0.0024999999, -0.0080810003, 0.0419190004},
+         {-0.0062500001, -0.0062500001, 0.0375000015}, {-0.0062799999, -0.0062799999, 0.0381130017},
+         {-0.0062799999, -0.0062799999, 0.0368870012}, {-0.0063700001, -0.0063700001, 0.0387189984},
+         {-0.0063700001, -0.0063700001, 0.0362810008}, {-0.006726, -0.006726, 0.0398919992},
+         {-0.006726, -0.006726, 0.035108}},
+        {{16, 1, 14}, {14, 2, 12}, {7, 8, 15}, {7, 15, 13}, {7, 13, 11}, {7, 11, 6}, {11, 10, 6}, {10, 12, 6},
+         {12, 3, 6}, {3, 4, 6}, {2, 3, 12}, {1, 2, 14}, {0, 1, 16}, {4, 5, 6}, {6, 5, 7}, {5, 8, 7}, {9, 8, 5}});
+    struct Policy {
+        const char* name;
+        BoundaryPolicy boundary;
+        int non_delaunay, most;
+    };
+    for (const Policy& c : {Policy{"free", BoundaryPolicy::free, 2, 7}, Policy{"strict", BoundaryPolicy::strict, 4, 21}}) {
+        const ConversionResult result = convert(corner, {.boundary = c.boundary, .lower_bound = true});
+        const ConversionReport& r = result.report;
+        ASSERT_EQ(r.status, ConvertStatus::certified) << c.name;
+        EXPECT_EQ(r.input_nonflat_non_delaunay_edges, c.non_delaunay) << c.name;
+        EXPECT_LE(r.output_vertices - r.input_vertices, c.most) << c.name;
+        EXPECT_GE(r.output_vertices - r.input_vertices, r.added_vertices_lower_bound) << c.name;
+        // Three points, one on each of three long edges, at one x.
+        int largest_ring = 0;
+        for (int v = corner.num_vertices(); v < result.mesh.num_vertices(); ++v) {
+            int ring = 0;
+            for (int w = corner.num_vertices(); w < result.mesh.num_vertices(); ++w)
+                ring += std::abs(result.mesh.V(w, 0) - result.mesh.V(v, 0)) < 1e-12;
+            largest_ring = std::max(largest_ring, ring);
+        }
+        EXPECT_GE(largest_ring, 3) << c.name;
+    }
+}
+
 // The needles of a fan get their split points in rings around the apex. Before, with 180
 // needles, rings out of step marched along them and the conversion ran out of its vertex
 // budget (more than 100,000 vertices for 140 non-Delaunay edges; now 14,043).

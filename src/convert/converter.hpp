@@ -492,6 +492,13 @@ private:
             }
         }
 
+        // Whether the point at distance t from a keeps every physical side locally Delaunay.
+        bool keeps_physical_at(double t) const {
+            for (int i = 0; i < count; ++i)
+                if ((physical >> i & 1u) && (t < keeps[i].lo || t > keeps[i].hi)) return false;
+            return true;
+        }
+
         // The feasible subset of most weight (the first found) inside `within`.
         SideChoice most_weight(Interval within) const {
             SideChoice best{within, -1, false};
@@ -578,6 +585,17 @@ private:
     // (thin strips of faces need fewer points: couplingdown 10.96 -> 8.95 vertices added per
     // non-Delaunay edge). Else the middle of the range.
     double usual_position(const Hinge& k, double l, Interval range, int on_input_edge) const;
+    // The foot of the perpendicular from an apex of k that is a split point across a plane
+    // (lies_across_plane), if it lies inside `within` and keeps every physical outer side.
+    // Such a point breaks pieces of the plane's far sides, whose points then break pieces near
+    // it, back and forth (cheese's flat sides); at its foot the two points make a right angle,
+    // which ends that: cheese 11.6 -> 10.7 vertices added per non-Delaunay edge, the other
+    // corpus meshes within 0.1 %.
+    std::optional<double> foot_across_plane(const Hinge& k, double l, const OuterSides& sides, Interval within,
+                                            int on_input_edge) const;
+    // Whether split point y lies on none of the input edges of the faces beside input edge e:
+    // as an apex of a piece of e, it sees it from across a plane of several input faces.
+    bool lies_across_plane(int y, int e) const;
 
     OuterSides outer_sides(const Hinge& k, double l, const Across* future = nullptr) const;
     // The outer sides of hinge k as halfedges of its faces, in the order a-r, b-r, a-s, b-s

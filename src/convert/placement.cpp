@@ -42,6 +42,8 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     if (best.weight < 0) return 0.5 * l;
     if (!best.keeps_physical)
         return least_cascading(k, l, sides, away_from_ends(kEndClearance), on_input_edge, alternatives);
+    if (const std::optional<double> foot = foot_across_plane(k, l, sides, away_from_ends(kNearEnd), on_input_edge))
+        return *foot;
     return sparing_neighbours(k, l, best.range, on_input_edge);
 }
 
@@ -187,6 +189,27 @@ double Converter::usual_position(const Hinge& k, double l, Interval range, int o
     double dyadic = -1;
     if (on_input_edge >= 0) for_each_dyadic(k, on_input_edge, range, 1, [&](double t) { dyadic = t; });
     return dyadic >= 0 ? dyadic : 0.5 * (range.lo + range.hi);
+}
+
+std::optional<double> Converter::foot_across_plane(const Hinge& k, double l, const OuterSides& sides, Interval within,
+                                                   int on_input_edge) const {
+    if (on_input_edge < 0) return std::nullopt;
+    for (const int y : {k.r, k.s}) {
+        if (y < input_vertices_ || !lies_across_plane(y, on_input_edge)) continue;
+        const double foot = (P_[y] - P_[k.a]).dot(P_[k.b] - P_[k.a]) / l;
+        if (foot >= within.lo && foot <= within.hi && sides.keeps_physical_at(foot)) return foot;
+    }
+    return std::nullopt;
+}
+
+bool Converter::lies_across_plane(int y, int e) const {
+    const int y_edge = vertex_input_edge_[y - input_vertices_];
+    if (y_edge < 0) return false;
+    for (int side = 0; side < 2; ++side)
+        if (const int g = input_edges_.edge_halfedges(e, side); g >= 0)
+            for (int j = 0; j < 3; ++j)
+                if (input_edges_.face_edge(g / 3, j) == y_edge) return false;
+    return true;
 }
 
 Converter::OuterSides Converter::outer_sides(const Hinge& k, double l, const Across* future) const {
