@@ -464,7 +464,7 @@ TEST(ConvertMethods, AStripOfLongFacesTakesOneRingOfPoints) {
 }
 
 // A corner of cgal_cheese.off (CC0): a fillet along x, a strip of long thin faces (corners of
-// 2.8-5.3°) whose facets are planes of two or three faces, meets the flat side x = 0.0025. A
+// 2.8-10.6°) whose facets are planes of two or three faces, meets the flat side x = 0.0025. A
 // split point on one long edge of a facet sees the facet's far long edge from across the plane;
 // there, at its foot, the next point makes a right angle with it, and the points go around
 // the strip at one x. Placed by the interval rule alone, they took 13 vertices for the 2
