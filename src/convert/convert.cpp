@@ -53,8 +53,7 @@ std::vector<int> Converter::input_planes() const {
     const int input_faces = static_cast<int>(input_.F.rows());
     UnionFind planes(input_faces);
     for (int e = 0; e < input_edges_.num_edges(); ++e)
-        if (const int g = input_edges_.edge_halfedges(e, 1); input_flat_[e] && g >= 0)
-            planes.unite(input_edges_.edge_halfedges(e, 0) / 3, g / 3);
+        if (const int g = input_face(e, 1); input_flat_[e] && g >= 0) planes.unite(input_face(e, 0), g);
     std::vector<int> plane_of(static_cast<size_t>(input_faces));
     for (int f = 0; f < input_faces; ++f) plane_of[f] = planes.find(f);
     return plane_of;

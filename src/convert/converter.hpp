@@ -394,6 +394,11 @@ private:
     }
 
     double dist(int u, int v) const { return distance(P_[u], P_[v]); }
+    // The input face on side 0 or 1 of input edge e (-1: none, beyond the boundary).
+    int input_face(int e, int side) const {
+        const int h = input_edges_.edge_halfedges(e, side);
+        return h < 0 ? -1 : h / 3;
+    }
 
     bool is_delaunay(int e) const {
         const Hinge k = hinge(e);

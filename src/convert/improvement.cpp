@@ -7,10 +7,7 @@ namespace sdmesh::conversion {
 
 void Converter::remove_unneeded_points(ConversionReport& report, const std::vector<char>* changed) {
     const int input_faces = static_cast<int>(input_.F.rows()), edges = input_edges_.num_edges();
-    auto faces_of = [&](int e) {
-        const int g = input_edges_.edge_halfedges(e, 1);
-        return std::array<int, 2>{input_edges_.edge_halfedges(e, 0) / 3, g < 0 ? -1 : g / 3};
-    };
+    auto faces_of = [&](int e) { return std::array<int, 2>{input_face(e, 0), input_face(e, 1)}; };
     const bool any_flat = std::find(input_flat_.begin(), input_flat_.end(), 1) != input_flat_.end();
     const std::vector<int> plane_of = any_flat ? input_planes() : std::vector<int>{};
     const Buckets plane_faces(any_flat ? input_faces : 0, any_flat ? input_faces : 0,
@@ -106,10 +103,6 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
 
 std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
     const int edges = input_edges_.num_edges();
-    auto face_of = [&](int e, int side) {
-        const int h = input_edges_.edge_halfedges(e, side);
-        return h < 0 ? -1 : h / 3;
-    };
     auto all_folds = [&](int f) {
         for (int k = 0; k < 3; ++k)
             if (input_flat_[input_edges_.face_edge(f, k)]) return false;
@@ -118,10 +111,10 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
     // The faces of e's faces' edges must all be single-face planes.
     auto in_folds = [&](int e) {
         for (int side = 0; side < 2; ++side)
-            if (const int f = face_of(e, side); f >= 0)
+            if (const int f = input_face(e, side); f >= 0)
                 for (int k = 0; k < 3; ++k)
                     for (int g_side = 0; g_side < 2; ++g_side)
-                        if (const int g = face_of(input_edges_.face_edge(f, k), g_side); g >= 0 && !all_folds(g))
+                        if (const int g = input_face(input_edges_.face_edge(f, k), g_side); g >= 0 && !all_folds(g))
                             return false;
         return true;
     };
@@ -189,15 +182,15 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
         const Eigen::Vector3d& A = P_[a];
         const double l = distance(A, P_[b]);
         const Eigen::Vector3d along = (P_[b] - A) / l;
-        const int sides = face_of(e, 1) < 0 ? 1 : 2;
+        const int sides = input_face(e, 1) < 0 ? 1 : 2;
         forbidden.clear();
         for (int side = 0; side < sides; ++side) {
-            const int f = face_of(e, side);
+            const int f = input_face(e, side);
             gather(f, e, points[side]);
             for (int k = 0; k < 3; ++k) {
                 const int g = input_edges_.face_edge(f, k);
                 if (g == e) continue;
-                const int across = face_of(g, 0) == f ? face_of(g, 1) : face_of(g, 0);
+                const int across = input_face(g, 0) == f ? input_face(g, 1) : input_face(g, 0);
                 if (across < 0 && !strict) continue;
                 if (across >= 0) gather(across, g, others);
                 const Eigen::Vector3d& w = P_[input_.F(f, k)];  // the corner of f off g, on e
@@ -355,8 +348,8 @@ std::vector<char> Converter::local_search(ConversionReport& report) {
                     on_edge[ie].push_back(static_cast<int>(indexed));
             edges.assign(1, e);
             for (int side = 0; side < 2; ++side)
-                if (const int h = input_edges_.edge_halfedges(e, side); h >= 0)
-                    for (int k = 0; k < 3; ++k) edges.push_back(input_edges_.face_edge(h / 3, k));
+                if (const int f = input_face(e, side); f >= 0)
+                    for (int k = 0; k < 3; ++k) edges.push_back(input_edges_.face_edge(f, k));
             std::sort(edges.begin(), edges.end());
             edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
             victims.clear();

@@ -206,9 +206,9 @@ bool Converter::lies_across_plane(int y, int e) const {
     const int y_edge = vertex_input_edge_[y - input_vertices_];
     if (y_edge < 0) return false;
     for (int side = 0; side < 2; ++side)
-        if (const int g = input_edges_.edge_halfedges(e, side); g >= 0)
+        if (const int f = input_face(e, side); f >= 0)
             for (int j = 0; j < 3; ++j)
-                if (input_edges_.face_edge(g / 3, j) == y_edge) return false;
+                if (input_edges_.face_edge(f, j) == y_edge) return false;
     return true;
 }
 
