@@ -16,12 +16,15 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <unistd.h>
+
+#include <Eigen/Geometry>
 
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
@@ -493,6 +496,109 @@ TEST(Obj, PolygonsAreFanTriangulatedAndCounted) {
     EXPECT_FALSE(report.compressed);
 }
 
+// An OBJ file with one polygon, its corners (x, y) laid in a tilted plane far from the origin.
+std::string tilted_polygon_obj(const std::vector<std::array<double, 2>>& corners) {
+    const std::array<double, 3> origin{5, -3, 7}, e1{1.0 / 3, 2.0 / 3, 2.0 / 3}, e2{2.0 / 3, 1.0 / 3, -2.0 / 3};
+    std::ostringstream obj;
+    obj.precision(17);
+    for (const auto& [x, y] : corners)
+        obj << "v " << origin[0] + x * e1[0] + y * e2[0] << ' ' << origin[1] + x * e1[1] + y * e2[1] << ' '
+            << origin[2] + x * e1[2] + y * e2[2] << '\n';
+    obj << 'f';
+    for (size_t i = 1; i <= corners.size(); ++i) obj << ' ' << i;
+    obj << '\n';
+    return obj.str();
+}
+
+// The triangles tile the polygon 0, 1, ..., n-1 of `area`: each is turned as the polygon (no
+// fold), their areas add up to the polygon's, each side of the polygon is in one triangle and
+// each diagonal in two, once each way.
+void expect_tiles_polygon(const TriangleMesh& mesh, double area) {
+    const int n = mesh.num_vertices();
+    ASSERT_EQ(mesh.num_faces(), n - 2);
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (int i = 0; i < n; ++i) normal += mesh.V.row(i).cross(mesh.V.row((i + 1) % n)).transpose();
+    normal.normalize();
+    double sum = 0;
+    std::map<std::pair<int, int>, int> directed;
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+        const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+        const double signed_area = (b - a).cross(c - a).dot(normal) / 2;
+        EXPECT_GT(signed_area, 0) << "triangle " << f << " is folded over";
+        sum += signed_area;
+        for (int k = 0; k < 3; ++k) ++directed[{mesh.F(f, k), mesh.F(f, (k + 1) % 3)}];
+    }
+    EXPECT_NEAR(sum, area, 1e-12 * area);
+    for (const auto& [edge, count] : directed) {
+        const auto [i, j] = edge;
+        EXPECT_EQ(count, 1) << "edge " << i << "-" << j;
+        if (j != (i + 1) % n) {
+            EXPECT_EQ(directed.count({j, i}), 1u) << "diagonal " << i << "-" << j;
+        }
+    }
+    for (int i = 0; i < n; ++i) EXPECT_EQ(directed.count({i, (i + 1) % n}), 1u) << "side " << i;
+}
+
+TEST(Obj, AnLShapeWhoseFanFoldsIsEarClipped) {
+    // From (2, 0) the fan's second triangle (2,0) (1,1) (1,2) is turned the wrong way.
+    ReadReport report;
+    const TriangleMesh mesh =
+        parse(tilted_polygon_obj({{2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}, {0, 0}}), MeshFormat::obj, &report);
+    EXPECT_EQ(report.polygons, 1);
+    EXPECT_EQ(report.polygon_triangles, 4);
+    EXPECT_EQ(report.ear_clipped_polygons, 1);
+    expect_tiles_polygon(mesh, 3.0);
+}
+
+TEST(Obj, ACombWithManyReflexCornersIsEarClipped) {
+    // A base 2k x 1 with k teeth 1 x 1 on top: 2k reflex corners.
+    constexpr int kTeeth = 25;
+    std::vector<std::array<double, 2>> comb{{0, 0}, {2 * kTeeth, 0}};
+    for (int t = kTeeth; t >= 1; --t) {
+        comb.push_back({2.0 * t, 2});
+        comb.push_back({2.0 * t - 1, 2});
+        comb.push_back({2.0 * t - 1, 1});
+        comb.push_back({2.0 * t - 2, 1});
+    }
+    ReadReport report;
+    const TriangleMesh mesh = parse(tilted_polygon_obj(comb), MeshFormat::obj, &report);
+    EXPECT_EQ(report.ear_clipped_polygons, 1);
+    expect_tiles_polygon(mesh, 3.0 * kTeeth);
+}
+
+TEST(Obj, ConvexAndStarShapedPolygonsKeepTheirFan) {
+    // The L shape again, from the corner that sees all of it: its fan is a triangulation.
+    ReadReport report;
+    const TriangleMesh mesh =
+        parse(tilted_polygon_obj({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}), MeshFormat::obj, &report);
+    EXPECT_EQ(report.ear_clipped_polygons, 0);
+    EXPECT_TRUE(same_matrix(mesh.F, faces({{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}})));
+    expect_tiles_polygon(mesh, 3.0);
+}
+
+TEST(Obj, PolygonsThatAreNotSimpleStillGiveTheirTriangles) {
+    // A bow tie (no normal: its two loops cancel), a self-crossing pentagram and all corners at
+    // one point: n - 2 triangles of the polygon's corners each, whatever they look like.
+    for (const std::string face : {"f 1 2 3 4\n", "f 1 3 5 2 4\n", "f 6 6 6 6\n"}) {
+        ReadReport report;
+        const TriangleMesh mesh = parse("v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nv 0.5 1.5 0\nv 2 2 2\n" + face,
+                                        MeshFormat::obj, &report);
+        const int corners = static_cast<int>(std::count(face.begin(), face.end(), ' '));
+        EXPECT_EQ(mesh.num_faces(), corners - 2) << face;
+        for (int f = 0; f < mesh.num_faces(); ++f)
+            for (int k = 0; k < 3; ++k) EXPECT_GE(mesh.F(f, k), 0);
+    }
+    // A large comb: the work bound stops ear clipping part way, the rest is fanned.
+    std::vector<std::array<double, 2>> comb{{0, 0}, {4000, 0}};
+    for (int t = 2000; t >= 1; --t)
+        for (const auto& [x, y] : std::vector<std::array<double, 2>>{{2.0 * t, 2}, {2.0 * t - 1, 2}, {2.0 * t - 1, 1}, {2.0 * t - 2, 1}})
+            comb.push_back({x, y});
+    ReadReport report;
+    const TriangleMesh mesh = parse(tilted_polygon_obj(comb), MeshFormat::obj, &report);
+    EXPECT_EQ(mesh.num_faces(), static_cast<int>(comb.size()) - 2);
+    EXPECT_EQ(report.ear_clipped_polygons, 1);
+}
+
 TEST(Obj, CornerFormsAndNegativeIndices) {
     const TriangleMesh mesh = parse(
         "# comment\r\n"
@@ -663,7 +769,9 @@ TEST(Ply, AsciiWithExtraElementsAndProperties) {
     Eigen::MatrixX3d V(4, 3);
     V << 0, 0, 0, 1, 0, 0, 1, 1, 5, 0, 1, -7;
     EXPECT_TRUE(same_matrix(mesh.V, V));
-    EXPECT_TRUE(same_matrix(mesh.F, faces({{0, 1, 2}, {0, 1, 2}, {0, 2, 3}})));
+    // The quad is warped so that its fan would fold over in its mean plane: it is ear clipped.
+    EXPECT_TRUE(same_matrix(mesh.F, faces({{0, 1, 2}, {1, 2, 3}, {1, 3, 0}})));
+    EXPECT_EQ(report.ear_clipped_polygons, 1);
     EXPECT_EQ(report.format, MeshFormat::ply);
     EXPECT_EQ(report.file_vertices, 4);
     EXPECT_EQ(report.file_faces, 2);

@@ -4,7 +4,11 @@
 // extension (case-insensitive, a trailing ".gz" means gzip).
 //
 // Reading keeps every face in the file: nothing is dropped or repaired here (validate.hpp reports
-// and repairs). Polygons with n > 3 corners are fan-triangulated (n - 2 triangles) and counted.
+// and repairs). Polygons with n > 3 corners become n - 2 triangles, counted: the fan (0, i, i+1)
+// when none of its triangles is inverted against the polygon's normal (convex polygons, for
+// one), else ear clipping in the polygon's plane, so that a non-convex polygon is not folded
+// over itself. A polygon ear clipping cannot finish (not simple, or past its work bound of
+// about 256 tests per corner) has the rest of it fanned.
 // STL vertices are welded by exact position (-0.0 == 0.0), numbered in order of first appearance.
 // Everything is double precision: OBJ/OFF are written with 17 significant digits and PLY with
 // `double` properties, so write -> read gives back the same bits.
@@ -27,7 +31,8 @@ struct ReadReport {
     long long file_vertices = 0;    ///< vertices declared or listed in the file (STL: 3 per facet)
     long long file_faces = 0;       ///< faces in the file, whatever their number of corners
     long long polygons = 0;         ///< faces with more than 3 corners
-    long long polygon_triangles = 0;///< triangles made from those polygons by fan triangulation
+    long long polygon_triangles = 0;///< triangles made from those polygons
+    long long ear_clipped_polygons = 0; ///< polygons whose fan would fold over: ear clipped
     long long welded_vertices = 0;  ///< STL only: file vertices merged with an earlier equal one
 };
 

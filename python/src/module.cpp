@@ -393,7 +393,8 @@ PYBIND11_MODULE(_sdmesh, m) {
     m.def("read_mesh", &read_mesh_py, arg("path"), R"(read_mesh(path) -> (V, F)
 
 Reads an OBJ, OFF, PLY or STL file (optionally .gz). V: float64 (n, 3), F: int32 (m, 3), both
-Fortran-ordered views of the C++ arrays (no copy). Polygons are fan-triangulated.
+Fortran-ordered views of the C++ arrays (no copy). Polygons are triangulated (fans, or ear
+clipping where a fan would fold over).
 Raises IoError, UnsupportedFormatError, ParseError.)");
 
     m.def("write_mesh", &write_mesh_py, arg("path"), arg("V"), arg("F"), arg("fields") = py::none(),

@@ -49,8 +49,8 @@ int run_info(Args& args) {
     const Inspection in = inspect(path);
     const MeshInfo& i = in.info;
     std::printf("%s\n", path.c_str());
-    std::printf("  faces in file       %lld (%lld polygons -> %lld triangles)\n", in.read.file_faces,
-                in.read.polygons, in.read.polygon_triangles);
+    std::printf("  faces in file       %lld (%lld polygons -> %lld triangles, %lld of them ear clipped)\n",
+                in.read.file_faces, in.read.polygons, in.read.polygon_triangles, in.read.ear_clipped_polygons);
     std::printf("  vertices            %d referenced, %d unreferenced, %d non-finite, %d duplicate positions\n",
                 i.vertices, i.unreferenced_vertices, i.non_finite_vertices, i.duplicate_vertex_positions);
     std::printf("  faces               %d (%d repeated index, %d zero area, %d duplicates)\n", i.faces,

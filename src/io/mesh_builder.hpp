@@ -1,8 +1,8 @@
 #pragma once
 // Collects what a reader finds (vertices, polygons) and turns it into a TriangleMesh.
 //
-// Shared by every format so that fan triangulation and the ReadReport counts are done the same
-// way everywhere. Index validation stays with the readers: only they know where in the file an
+// Shared by every format so that polygon triangulation and the ReadReport counts are done the
+// same way everywhere. Index validation stays with the readers: only they know where in the file an
 // index came from, which the error message must say.
 
 #include <cstddef>
@@ -26,11 +26,13 @@ public:
         xyz_.push_back(z);
     }
 
-    /// Adds a face, fan-triangulated as (0, i, i+1) when it has more than 3 corners. Corners are
-    /// kept as they are (repeated indices included). Returns false, adding nothing, for a face
-    /// with fewer than 3 corners: the caller reports that with its own location.
+    /// Adds a face. One with more than 3 corners is kept as its fan (0, i, i+1) until finish()
+    /// knows every position and triangulates it (io.hpp says how). Corners are kept as they are
+    /// (repeated indices included). Returns false, adding nothing, for a face with fewer than 3
+    /// corners: the caller reports that with its own location.
     [[nodiscard]] bool add_face(std::span<const int> corners) {
         if (corners.size() < 3) return false;
+        if (corners.size() > 3) polygon_fans_.push_back({triangles_.size() / 3, corners.size()});
         for (std::size_t i = 1; i + 1 < corners.size(); ++i) {
             triangles_.push_back(corners[0]);
             triangles_.push_back(corners[i]);
@@ -46,15 +48,22 @@ public:
 
     [[nodiscard]] long long num_vertices() const { return static_cast<long long>(xyz_.size() / 3); }
 
-    /// The mesh; fills file_vertices (= vertices added), file_faces, polygons, polygon_triangles.
+    /// The mesh; fills file_vertices (= vertices added), file_faces, polygons, polygon_triangles,
+    /// ear_clipped_polygons. Every index must be a vertex by now.
     TriangleMesh finish(ReadReport& report) const;
 
 private:
+    struct PolygonFan {
+        std::size_t first_triangle;
+        std::size_t corners;
+    };
+
     std::vector<double> xyz_;    // x0 y0 z0 x1 ...
     std::vector<int> triangles_; // a0 b0 c0 a1 ...
     long long faces_ = 0;
     long long polygons_ = 0;
     long long polygon_triangles_ = 0;
+    std::vector<PolygonFan> polygon_fans_;
 };
 
 }  // namespace sdmesh::io

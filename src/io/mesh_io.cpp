@@ -7,12 +7,15 @@
 #include <cctype>
 #include <cerrno>
 #include <climits>
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <system_error>
 #include <utility>
 
 #include <unistd.h>
+
+#include <Eigen/Geometry>
 
 #include "io/errors.hpp"
 #include "io/formats.hpp"
@@ -49,14 +52,105 @@ std::string quoted(std::string_view token) {
 
 // ---- MeshBuilder -----------------------------------------------------------------------------
 
+namespace {
+
+// Point tests ear clipping may spend per corner: quadratic work for the polygons modellers write,
+// and a file of huge combs stays linear in its size.
+constexpr std::size_t kEarClippingWorkPerCorner = 256;
+
+using RowMajorX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+// Re-triangulates in place the polygon whose fan is `fan` (n - 2 rows of F), if that fan folds
+// over: ear clipping in the plane of the polygon's Newell normal, trying corners from 1 on, so
+// that it would clip the fan's own triangles where they are ears. Returns whether it did.
+bool unfold_polygon(const Eigen::MatrixX3d& V, Eigen::Ref<RowMajorX3i> fan) {
+    const auto n = static_cast<std::size_t>(fan.rows()) + 2;
+    auto read_corner = [&](std::size_t i) {
+        return i < 2 ? fan(0, static_cast<Eigen::Index>(i)) : fan(static_cast<Eigen::Index>(i) - 2, 2);
+    };
+    auto point = [&](std::size_t i) -> Eigen::Vector3d { return V.row(read_corner(i)).transpose(); };
+
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < n; ++i) normal += point(i).cross(point((i + 1) % n));
+    if (const double norm2 = normal.squaredNorm(); !(norm2 > 0) || !std::isfinite(norm2)) return false;
+    bool folds = false;
+    for (std::size_t i = 1; i + 1 < n; ++i)
+        folds = folds || (point(i) - point(0)).cross(point(i + 1) - point(0)).dot(normal) < 0;
+    if (!folds) return false;
+
+    std::vector<int> corners(n);  // read before the rows are overwritten
+    for (std::size_t i = 0; i < n; ++i) corners[i] = read_corner(i);
+    // (u, v, normal) is right-handed, so the polygon runs counterclockwise in (u, v).
+    const Eigen::Vector3d w = normal.normalized();
+    const Eigen::Vector3d u = w.unitOrthogonal();
+    const Eigen::Vector3d v = w.cross(u);
+    std::vector<Eigen::Vector2d> q(n);
+    for (std::size_t i = 0; i < n; ++i) q[i] = {(point(i) - point(0)).dot(u), (point(i) - point(0)).dot(v)};
+    // The sine of the turn from a to b to c: +1 left, -1 right, 0 straight or degenerate.
+    auto turn = [&](std::size_t a, std::size_t b, std::size_t c) {
+        const Eigen::Vector2d ab = q[b] - q[a], ac = q[c] - q[a];
+        const double lengths = std::sqrt(ab.squaredNorm() * ac.squaredNorm());
+        return lengths > 0 ? (ab.x() * ac.y() - ab.y() * ac.x()) / lengths : 0.0;
+    };
+    // Turns within rounding of straight count as straight (the corners are rounded into the plane).
+    constexpr double kStraight = 1e-12;
+    std::vector<std::size_t> next(n), prev(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        next[i] = (i + 1) % n;
+        prev[i] = (i + n - 1) % n;
+    }
+    std::size_t work = 0;
+    const std::size_t work_bound = kEarClippingWorkPerCorner * n;
+    // An ear: a convex corner whose triangle holds no other corner (only reflex ones can be in it).
+    auto is_ear = [&](std::size_t i) {
+        const std::size_t a = prev[i], c = next[i];
+        if (!(turn(a, i, c) > kStraight)) return false;
+        for (std::size_t j = next[c]; j != a; j = next[j]) {
+            ++work;
+            if (turn(prev[j], j, next[j]) > kStraight) continue;
+            if (turn(a, i, j) >= -kStraight && turn(i, c, j) >= -kStraight && turn(c, a, j) >= -kStraight)
+                return false;
+        }
+        return true;
+    };
+    Eigen::Index row = 0;
+    auto emit = [&](std::size_t a, std::size_t b, std::size_t c) {
+        fan.row(row++) << corners[a], corners[b], corners[c];
+    };
+    std::size_t remaining = n, i = 1, tried = 0;
+    while (remaining > 3 && tried < remaining && work <= work_bound) {
+        if (is_ear(i)) {
+            emit(prev[i], i, next[i]);
+            next[prev[i]] = next[i];
+            prev[next[i]] = prev[i];
+            i = next[i];
+            --remaining;
+            tried = 0;
+        } else {
+            i = next[i];
+            ++tried;
+        }
+    }
+    // The last triangle, or the rest of a polygon without ears (not simple) as a fan.
+    for (std::size_t j = i; next[j] != prev[i]; j = next[j]) emit(prev[i], j, next[j]);
+    return true;
+}
+
+}  // namespace
+
 TriangleMesh MeshBuilder::finish(ReadReport& report) const {
     using RowMajorX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-    using RowMajorX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
     TriangleMesh mesh;
     const auto n_vertices = static_cast<Eigen::Index>(xyz_.size() / 3);
     const auto n_triangles = static_cast<Eigen::Index>(triangles_.size() / 3);
     mesh.V = Eigen::Map<const RowMajorX3d>(xyz_.data(), n_vertices, 3);
-    mesh.F = Eigen::Map<const RowMajorX3i>(triangles_.data(), n_triangles, 3);
+    RowMajorX3i triangles = Eigen::Map<const RowMajorX3i>(triangles_.data(), n_triangles, 3);
+    for (const PolygonFan& polygon : polygon_fans_) {
+        const auto rows = static_cast<Eigen::Index>(polygon.corners) - 2;
+        report.ear_clipped_polygons +=
+            unfold_polygon(mesh.V, triangles.middleRows(static_cast<Eigen::Index>(polygon.first_triangle), rows));
+    }
+    mesh.F = triangles;
     report.file_vertices = num_vertices();
     report.file_faces = faces_;
     report.polygons = polygons_;

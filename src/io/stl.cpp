@@ -120,7 +120,7 @@ bool is_keyword(std::string_view token, std::string_view keyword) {
 }
 
 // solid name / facet normal n n n / outer loop / vertex x y z (3 or more) / endloop / endfacet /
-// ... / endsolid name. Keywords in any case; facets of more than 3 corners are fan-triangulated.
+// ... / endsolid name. Keywords in any case; facets of more than 3 corners are triangulated as polygons.
 void parse_ascii(std::string_view text, std::string_view file, MeshBuilder& mesh, VertexWelder& welder) {
     TextScanner in(text, file, false);
     std::vector<int> corners;
