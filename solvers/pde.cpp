@@ -53,6 +53,19 @@ void check_time_scale(const Sparse& L, const Sparse& M, double t) {
     }
 }
 
+// A vertex in no face has neither mass nor stiffness: unless it is pinned, M + tL is singular in
+// its row, and Cholesky would only name a column.
+void check_no_free_isolated_vertex(const Sparse& L, const Sparse& M, const std::vector<int>& pinned) {
+    const Eigen::VectorXd mass = M.diagonal(), stiffness = L.diagonal();
+    std::vector<char> is_pinned(static_cast<size_t>(mass.size()), 0);
+    for (const int v : pinned)
+        if (v >= 0 && v < mass.size()) is_pinned[static_cast<size_t>(v)] = 1;
+    for (Eigen::Index v = 0; v < mass.size(); ++v)
+        if (mass[v] == 0 && stiffness[v] == 0 && !is_pinned[static_cast<size_t>(v)])
+            throw NumericalError("heat: vertex " + std::to_string(v) +
+                                 " has no mass and no stiffness (a vertex in no face, which sdmesh repair drops)");
+}
+
 }  // namespace
 
 // ---- Poisson ---------------------------------------------------------------------------------------
@@ -130,6 +143,7 @@ HeatSolver::HeatSolver(const Sparse& L, const Sparse& M, double t, const std::ve
     check_time_step(t, "heat");
     check_time_scale(L, M, t);
     const detail::Pins pins(static_cast<int>(L.rows()), dirichlet_vertices, "heat");
+    check_no_free_isolated_vertex(L, M, dirichlet_vertices);
     fixed_ = dirichlet_vertices;
     L_ = L;
     M_ = M;

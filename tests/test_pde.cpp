@@ -261,6 +261,29 @@ TEST(Heat, ArgumentsAreChecked) {
     EXPECT_THROW((void)heat.step(Eigen::VectorXd::Constant(42, -HUGE_VAL)), InvalidArgumentError);
 }
 
+TEST(Heat, AVertexInNoFaceIsNamedUnlessItIsPinned) {
+    TriangleMesh mesh = make_icosphere(1);
+    mesh.V.conservativeResize(mesh.V.rows() + 1, 3);
+    mesh.V.row(42) << 5, 5, 5;  // in no face
+    const Triangulation t = Triangulation::from_mesh(mesh);
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    try {
+        HeatSolver heat(L, M, 0.1);
+        FAIL() << "no exception";
+    } catch (const NumericalError& e) {
+        EXPECT_NE(std::string(e.what()).find("vertex 42 has no mass"), std::string::npos) << e.what();
+    }
+    // Pinned, it keeps its Dirichlet value 0 and the heat elsewhere is that of the sphere alone.
+    const HeatSolver pinned(L, M, 0.1, {42});
+    const Triangulation sphere = Triangulation::from_mesh(make_icosphere(1));
+    const HeatSolver alone(cotan_laplacian(sphere), mass_matrix(sphere), 0.1);
+    Eigen::VectorXd u0 = Eigen::VectorXd::Zero(43);
+    u0[3] = 1;
+    const Eigen::VectorXd u = pinned.step(u0);
+    EXPECT_EQ(u[42], 0);
+    EXPECT_LT((u.head(42) - alone.step(u0.head(42))).norm(), 1e-14);
+}
+
 // ---- heat-method geodesics ---------------------------------------------------------------------------
 
 // Mean of |d − exact| / exact over the vertices where exact > 0.
@@ -467,6 +490,27 @@ TEST_F(Cli, GeodesicRejectsBadArguments) {
     EXPECT_EQ(run("geodesic " + mesh + " --source 12" + out), 7);          // out of range
     EXPECT_EQ(run("geodesic " + mesh + " --source 1 --time 0" + out), 7);
     EXPECT_FALSE(std::filesystem::exists(dir_ / "d.ply"));
+}
+
+TEST_F(Cli, SolverCommandsNameAVertexInNoFace) {
+    TriangleMesh mesh = make_icosphere(0);
+    mesh.V.conservativeResize(mesh.V.rows() + 1, 3);
+    mesh.V.row(12) << 2, 2, 2;
+    write_mesh(dir_ / "loose.off", mesh);
+    std::ofstream f(dir_ / "f.txt");
+    for (int v = 0; v < 13; ++v) f << "1\n";
+    f.close();
+    const std::string file = (dir_ / "loose.off").string();
+    for (const std::string& command :
+         {"eigs " + file + " -k 2 --out " + (dir_ / "e").string(),
+          "geodesic " + file + " --source 0 --out " + (dir_ / "d.ply").string(),
+          "heat " + file + " --source 0 --time 0.1 --out " + (dir_ / "h.ply").string(),
+          "poisson " + file + " --f " + (dir_ / "f.txt").string() + " --out " + (dir_ / "p.ply").string()}) {
+        EXPECT_EQ(run(command), 6) << command;
+        const std::string error = read(dir_ / "err.txt");
+        EXPECT_NE(error.find(file + ": vertex 12 is in no face"), std::string::npos) << error;
+    }
+    for (const char* output : {"d.ply", "h.ply", "p.ply"}) EXPECT_FALSE(std::filesystem::exists(dir_ / output));
 }
 
 TEST_F(Cli, PoissonAndHeatWriteTheLibrarysSolutions) {

@@ -72,7 +72,8 @@ class HeatSolver {
 public:
     /// \throws InvalidArgumentError sizes as PoissonSolver; time step t <= 0 or not finite; as
     ///         CholeskySolver::analyze for the options.
-    /// \throws NumericalError M + tL is not positive definite.
+    /// \throws NumericalError a vertex that is not a Dirichlet vertex has M(v, v) = L(v, v) = 0 (a
+    ///         vertex in no face; the message names it); M + tL is not positive definite.
     HeatSolver(const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M, double t,
                const std::vector<int>& dirichlet_vertices = {}, const CholeskyOptions& cholesky = {});
 

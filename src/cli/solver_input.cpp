@@ -1,5 +1,6 @@
 #include "cli/solver_input.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -24,10 +25,29 @@ SolverChoices parse_solver_choices(Args& args) {
     return choices;
 }
 
+namespace {
+
+// The solvers' answers live on vertices of faces: a vertex in no face has no mass, no neighbour
+// and no meaningful value (its Laplacian row is zero).
+void reject_vertices_in_no_face(const TriangleMesh& mesh) {
+    std::vector<char> in_face(static_cast<size_t>(mesh.num_vertices()), 0);
+    for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+        for (int k = 0; k < 3; ++k)
+            if (const int v = mesh.F(f, k); v >= 0 && v < mesh.num_vertices()) in_face[static_cast<size_t>(v)] = 1;
+    const auto first = std::find(in_face.begin(), in_face.end(), 0);
+    if (first == in_face.end()) return;
+    throw InvalidMeshError("vertex " + std::to_string(first - in_face.begin()) + " is in no face (" +
+                           std::to_string(std::count(in_face.begin(), in_face.end(), 0)) +
+                           " such vertices); sdmesh repair drops them");
+}
+
+}  // namespace
+
 SolverInput load_solver_input(const std::string& path, const SolverChoices& choices, JsonObject& report) {
     SolverInput input;
     about_file(path, [&] {
         input.mesh = read_mesh(path);
+        reject_vertices_in_no_face(input.mesh);
         report.add("file", path);
         if (choices.convert) {
             ConversionResult converted = convert(input.mesh, {.method = *choices.convert});
