@@ -81,6 +81,11 @@ int run_decimate(Args& args) {
         ConversionResult converted = about_file(paths[0], [&] {
             return convert(mesh, {.boundary = options.boundary, .tolerance = options.tolerance, .progress = options.progress});
         });
+        if (converted.report.status != ConvertStatus::certified)
+            throw InvalidArgumentError(paths[0] + ": --convert-first did not make it self-Delaunay (status " +
+                                       std::string(to_string(converted.report.status)) + ", " +
+                                       std::to_string(converted.report.certificate.non_delaunay_edges) +
+                                       " non-Delaunay edges left), so it cannot be decimated; see sdmesh convert");
         mesh = std::move(converted.mesh);
         conversion = converted.report;
     }
