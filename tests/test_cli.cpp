@@ -68,6 +68,23 @@ TEST_F(Cli, ConvertReportHasTheDocumentedKeys) {
     EXPECT_EQ(run_cli("check " + path("bunny_sd.obj")).code, 0);
 }
 
+TEST_F(Cli, AConversionThatIsNotCertifiedSaysWhyInOneLine) {
+    // The bunny needs about 280 new vertices: a budget of 1,850 (11 more) runs out.
+    CliRun r = run_cli("convert " + kBunny + " " + path("budget.obj") + " --max-vertices 1850");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("not certified (budget_exhausted at 1850 vertices"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--max-vertices"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    // An obtuse triangle alone: no flip can make its boundary edge's angle acute.
+    const std::string obtuse = write_text("obtuse.obj", "v 0 0 0\nv 2 0 0\nv 1 0.2 0\nf 1 2 3\n");
+    r = run_cli("convert " + obtuse + " " + path("flipped.obj") + " --method flip");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("0 non-Delaunay edges and 1 obtuse boundary edges that flips cannot fix; --method split"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
 TEST_F(Cli, NoHausdorffReportsNullInsteadOfADistance) {
     const std::string hybrid = "convert " + kBunny + " " + path("bunny_hybrid.obj") + " --method hybrid";
     const CliRun measured = run_cli(hybrid);

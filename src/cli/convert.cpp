@@ -65,8 +65,16 @@ int run_convert(Args& args) {
     const std::string text = json.str() + "\n";
     if (report_path) write_text_file(*report_path, text);
     std::cout << text;
-    if (r.status != ConvertStatus::certified)
-        std::cerr << "sdmesh convert: " << paths[1] << ": not certified (" << to_string(r.status) << ")\n";
+    if (r.status == ConvertStatus::budget_exhausted)
+        std::cerr << "sdmesh convert: " << paths[1] << ": not certified (budget_exhausted at " << r.output_vertices
+                  << " vertices and " << r.flips << " flips, " << r.certificate.non_delaunay_edges
+                  << " non-Delaunay edges left; --max-vertices sets the vertex budget: faces with angles near 0 or "
+                     "180 degrees can need many vertices)\n";
+    else if (r.status != ConvertStatus::certified)
+        std::cerr << "sdmesh convert: " << paths[1] << ": not certified (" << to_string(r.status) << ", "
+                  << r.certificate.non_delaunay_edges << " non-Delaunay edges and "
+                  << r.certificate.boundary_obtuse_edges
+                  << " obtuse boundary edges that flips cannot fix; --method split certifies)\n";
     return r.status == ConvertStatus::certified ? kSuccess : kNotSelfDelaunay;
 }
 
