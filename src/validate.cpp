@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <numeric>
@@ -45,6 +46,37 @@ std::vector<int> coincident_representatives(const Eigen::MatrixX3d& V,
     std::iota(representative.begin(), representative.end(), 0);
     for (size_t i = 1; i < points.size(); ++i)
         if (points[i].x == points[i - 1].x) representative[points[i].v] = representative[points[i - 1].v];
+    return representative;
+}
+
+// representative[v] = the smallest-index vertex v is merged with: vertices at exactly one position
+// (among `mask`), and the two ends of a face side shorter than kRoundingSide of the bounding-box
+// diagonal of those vertices, which are one point up to an exporter's rounding (0 and 5.7e-16).
+std::vector<int> merge_representatives(const TriangleMesh& mesh, const std::vector<char>& mask) {
+    constexpr double kRoundingSide = 1e-12;
+    std::vector<int> representative = coincident_representatives(mesh.V, mask);
+    Eigen::RowVector3d low = Eigen::RowVector3d::Constant(HUGE_VAL), high = -low;
+    for (int v = 0; v < mesh.num_vertices(); ++v)
+        if (mask[v] && mesh.V.row(v).allFinite()) {
+            low = low.cwiseMin(mesh.V.row(v));
+            high = high.cwiseMax(mesh.V.row(v));
+        }
+    const double shortest = kRoundingSide * (high - low).stableNorm();
+    if (!(shortest > 0) || !std::isfinite(shortest)) return representative;
+    UnionFind sets(mesh.num_vertices());
+    bool merged = false;
+    for (int f = 0; f < mesh.num_faces(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const int a = representative[mesh.F(f, k)], b = representative[mesh.F(f, (k + 1) % 3)];
+            if (a != b && (mesh.V.row(a) - mesh.V.row(b)).norm() <= shortest) merged |= sets.unite(a, b);
+        }
+    if (!merged) return representative;
+    std::vector<int> smallest(representative.size(), INT_MAX);
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+        int& s = smallest[static_cast<size_t>(sets.find(representative[v]))];
+        s = std::min(s, v);
+    }
+    for (int v = 0; v < mesh.num_vertices(); ++v) representative[v] = smallest[static_cast<size_t>(sets.find(representative[v]))];
     return representative;
 }
 
@@ -158,16 +190,26 @@ int find_edge(const EdgeTable& table, int u, int v) {
 // A cap is a zero-area face whose third vertex c lies inside its longest side a-b, away from both
 // ends (its shorter sides are at least kCapSide of a-b, far longer than its height). With the face
 // a-b-d across that side, the cap and that face become c-a-d and b-c-d, which tile a-b-d: the
-// surface moves by no more than the cap's height (1e-12 of a-b at most). Each pass flips caps
-// whose faces no earlier flip of the pass touched; a flip can leave a new cap if d lies on a-b
-// too. Consistently oriented faces expected. Returns the number of flips.
-int flip_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
+// surface moves by no more than the cap's height (1e-12 of a-b at most). A cap whose side a-b is
+// on the boundary is dropped: a-c and c-b take a-b's place on the boundary, along the same line
+// (not when c is a boundary vertex inside the cap's fan, which would tear c's fan in two). Each
+// pass mends caps whose faces no earlier change of the pass touched; a flip can leave a new cap
+// if d lies on a-b too. Consistently oriented faces expected.
+struct MendedCaps {
+    int flipped = 0;
+    int dropped = 0;
+};
+
+MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
     constexpr double kCapSide = 1e-6;
     constexpr int kPasses = 8;
-    int flips = 0;
+    MendedCaps mended;
     for (int pass = 0, made = 1; pass < kPasses && made > 0; ++pass) {
         const EdgeTable table = build_edge_table(F, static_cast<int>(V.rows()), NonmanifoldVertices::skip);
-        std::vector<char> touched(static_cast<size_t>(F.rows()), 0);
+        std::vector<char> on_boundary(static_cast<size_t>(V.rows()), 0);
+        for (int e = 0; e < table.num_edges(); ++e)
+            if (table.face_count[e] == 1) on_boundary[table.E(e, 0)] = on_boundary[table.E(e, 1)] = 1;
+        std::vector<char> touched(static_cast<size_t>(F.rows()), 0), dropped(static_cast<size_t>(F.rows()), 0);
         made = 0;
         for (int f = 0; f < F.rows(); ++f) {
             double sides[3];
@@ -176,21 +218,36 @@ int flip_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
             if (*std::min_element(sides, sides + 3) < kCapSide * sides[corner])
                 continue;  // a needle: two nearly coincident vertices make it flat, no flip mends that
             const int e = table.face_edge(f, corner);
+            const int c = F(f, corner), a = F(f, (corner + 1) % 3), b = F(f, (corner + 2) % 3);
+            if (e >= 0 && table.face_count[e] == 1) {
+                const int ca = table.face_edge(f, (corner + 2) % 3), cb = table.face_edge(f, (corner + 1) % 3);
+                const bool inside_fan = ca >= 0 && cb >= 0 && table.face_count[ca] == 2 && table.face_count[cb] == 2;
+                if (inside_fan && on_boundary[c]) continue;
+                dropped[f] = touched[f] = 1;
+                ++made;
+                ++mended.dropped;
+                continue;
+            }
             if (e < 0 || table.face_count[e] != 2) continue;
             const int across = table.edge_halfedges(e, 0) / 3 == f ? table.edge_halfedges(e, 1)
                                                                     : table.edge_halfedges(e, 0);
             const int g = across / 3;
-            const int c = F(f, corner), a = F(f, (corner + 1) % 3), b = F(f, (corner + 2) % 3);
             const int d = F(g, across % 3);
             if (g == f || touched[g] || d == c || find_edge(table, c, d) >= 0) continue;
             F.row(f) << c, a, d;
             F.row(g) << b, c, d;
             touched[f] = touched[g] = 1;
             ++made;
+            ++mended.flipped;
         }
-        flips += made;
+        if (std::find(dropped.begin(), dropped.end(), 1) != dropped.end()) {
+            Eigen::MatrixX3i kept(F.rows() - std::count(dropped.begin(), dropped.end(), 1), 3);
+            for (int f = 0, row = 0; f < F.rows(); ++f)
+                if (!dropped[f]) kept.row(row++) = F.row(f);
+            F = std::move(kept);
+        }
     }
-    return flips;
+    return mended;
 }
 
 // Gives each fan of faces around a non-manifold vertex its own copy of the vertex (at the same
@@ -376,8 +433,7 @@ TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, Repa
     TriangleMesh out = mesh;
 
     if (options.merge_coincident_vertices) {
-        const std::vector<int> representative =
-            coincident_representatives(out.V, referenced_vertices(out));
+        const std::vector<int> representative = merge_representatives(out, referenced_vertices(out));
         for (int v = 0; v < out.num_vertices(); ++v) counts.merged_vertices += representative[v] != v;
         for (int f = 0; f < out.num_faces(); ++f)
             for (int k = 0; k < 3; ++k) out.F(f, k) = representative[out.F(f, k)];
@@ -410,8 +466,11 @@ TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, Repa
                 ++counts.flipped_faces;
             }
     }
-    if (options.flip_caps && options.orient && counts.non_orientable_components == 0)
-        counts.flipped_caps = flip_caps(out.V, out.F);
+    if (options.flip_caps && options.orient && counts.non_orientable_components == 0) {
+        const MendedCaps mended = mend_caps(out.V, out.F);
+        counts.flipped_caps = mended.flipped;
+        counts.dropped_caps = mended.dropped;
+    }
     if (options.drop_unreferenced_vertices) {
         const std::vector<char> referenced = referenced_vertices(out);
         std::vector<int> new_index(out.num_vertices(), -1);

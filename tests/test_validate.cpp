@@ -303,14 +303,65 @@ TEST(Repair, FlipsZeroAreaCapsAwayWithoutMovingTheSurface) {
     EXPECT_NEAR(volume, 4.0 / 3.0, 1e-12);
     EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
 
-    // Kept on request; a needle (zero area from a short side) is not a cap and stays.
+    // Kept on request; a needle (zero area from a short side) is not a cap and stays, unless its
+    // short side is rounding (below 1e-12 of the diagonal, 3.5e-12 here; see the next test).
     RepairOptions keep;
     keep.flip_caps = false;
     EXPECT_EQ(validate(repair(capped, keep)).zero_area_faces, 1);
     TriangleMesh needle = octahedron;
-    needle.V.row(4) << 1e-14, 1, 1e-14;  // +z next to +y: faces 0 and 1 are needles
-    EXPECT_EQ(validate(needle).zero_area_faces, 2);
-    EXPECT_EQ(validate(repair(needle)).zero_area_faces, 2);
+    needle.V.row(4) << -1e-11 / std::sqrt(2.0), 1 + 1e-11 / std::sqrt(2.0), 0;  // +z 1e-11 beyond +y, from +x
+    EXPECT_EQ(validate(needle).zero_area_faces, 1);
+    RepairReport needle_report;
+    EXPECT_EQ(validate(repair(needle, {}, &needle_report)).zero_area_faces, 1);
+    EXPECT_EQ(needle_report.merged_vertices, 0);
+}
+
+TEST(Repair, MergesTheEndsOfASideAsShortAsRounding) {
+    // The octahedron with +x doubled 6e-16 away (as exporters round 0 to 5.7e-16), two faces
+    // moved onto the copy, and two needles 0-4-6 and 5-0-6 closing the gap.
+    TriangleMesh mesh = make_mesh(
+        {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {1, 6e-16, 0}},
+        {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 6, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {6, 3, 5}, {0, 4, 6}, {5, 0, 6}});
+    ASSERT_EQ(validate(mesh).zero_area_faces, 2);
+    ASSERT_TRUE(validate(mesh).manifold());
+    RepairReport report;
+    const TriangleMesh repaired = repair(mesh, {}, &report);
+    EXPECT_EQ(report.merged_vertices, 1);
+    EXPECT_EQ(report.dropped_repeated_index_faces, 2);
+    const MeshInfo info = validate(repaired);
+    EXPECT_EQ(info.zero_area_faces, 0);
+    EXPECT_EQ(info.faces, 8);
+    EXPECT_EQ(info.euler_characteristic, 2);
+    EXPECT_TRUE(info.manifold());
+    EXPECT_EQ(repaired.V.row(0), Eigen::RowVector3d(1, 0, 0));  // the smaller index stays where it was
+    EXPECT_NEAR(total_area(repaired), 4 * std::sqrt(3.0), 1e-12);
+    // 1e-9 apart, the two are distinct vertices: nothing is merged.
+    mesh.V(6, 1) = 1e-9;
+    EXPECT_EQ(repair(mesh, {}, &report).num_faces(), 10);
+    EXPECT_EQ(report.merged_vertices, 0);
+}
+
+TEST(Repair, DropsACapOnTheBoundary) {
+    // The unit square with a vertex in the middle of its bottom side, and a cap 1-4-0 along that
+    // side: its long side 0-1 is the boundary, its two others run along it.
+    const TriangleMesh capped = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0, 0}},
+                                          {{4, 1, 2}, {4, 2, 3}, {0, 4, 3}, {1, 4, 0}});
+    ASSERT_EQ(validate(capped).zero_area_faces, 1);
+    RepairReport report;
+    const TriangleMesh repaired = repair(capped, {}, &report);
+    EXPECT_EQ(report.dropped_caps, 1);
+    EXPECT_EQ(report.flipped_caps, 0);
+    const MeshInfo info = validate(repaired);
+    EXPECT_EQ(info.faces, 3);
+    EXPECT_EQ(info.zero_area_faces, 0);
+    EXPECT_EQ(info.boundary_loops, 1);
+    EXPECT_EQ(info.boundary_edges, 5);
+    EXPECT_TRUE(info.manifold());
+    EXPECT_NEAR(total_area(repaired), 1.0, 1e-15);
+    // A lone cap is a component of zero area: it goes, with its vertices.
+    const TriangleMesh lone = repair(make_mesh({{0, 0, 0}, {2, 0, 0}, {1, 0, 0}}, {{0, 1, 2}}), {}, &report);
+    EXPECT_EQ(lone.num_faces(), 0);
+    EXPECT_EQ(lone.num_vertices(), 0);
 }
 
 }  // namespace

@@ -1,19 +1,21 @@
 #!/usr/bin/env python3
-"""Converts every mesh that three Debian packages ship, none of them used in development.
+"""Converts every mesh that five Debian packages ship, none of them used in development.
 
     sweep.py SDMESH OUT [--work DIR] [--jobs N] [--timeout SECONDS]
 
 SDMESH is the sdmesh program (a Release build), OUT the results folder, DIR a scratch folder for
 the extracted meshes and the reports (default: a temporary one). The meshes come from
 libcgal-demo (data.tar.gz: CGAL's test and demo meshes, extracted into DIR/meshes), occt-misc
-(Open CASCADE's STL samples) and geomview (its OFF examples):
+(Open CASCADE's STL samples), geomview (its OFF examples), assimp-testmodels (Assimp's importer
+tests, broken files included) and openscad-testing-data (OpenSCAD's STL tests):
 
-    apt-get install libcgal-demo occt-misc geomview
+    apt-get install libcgal-demo occt-misc geomview assimp-testmodels openscad-testing-data
 
 Each mesh is converted with the default split method and with hybrid at 10°, under a time limit
 (an invalid one again with --repair).
 Every output of a successful conversion must pass `sdmesh check` and convert again with no flip
-and no split. Writes OUT/unseen_meshes.csv (one row per mesh and method) and OUT/unseen_meshes.md
+and no split. A conversion that runs out of its vertex or flip budget is reported (exit 1, status
+budget_exhausted: the budget did its job), not counted as a failure. Writes OUT/unseen_meshes.csv (one row per mesh and method) and OUT/unseen_meshes.md
 (what each exit code stands for, how many, the slowest and least efficient conversions), prints
 the summary and exits 1 if a conversion crashed, timed out, was not certified on a manifold mesh
 or failed the output checks. Python 3 standard library only.
@@ -35,6 +37,11 @@ from pathlib import Path
 CGAL_DATA = Path("/usr/share/doc/libcgal-dev/data.tar.gz")
 OCCT_STL = Path("/usr/share/opencascade/data/stl")
 GEOMVIEW = Path("/usr/share/geomview")
+ASSIMP = Path("/usr/share/assimp/models")
+OPENSCAD = Path("/usr/share/openscad")
+# The packages whose mesh files are read where they are installed.
+INSTALLED = (("occt-misc", OCCT_STL), ("geomview", GEOMVIEW), ("assimp-testmodels", ASSIMP),
+             ("openscad-testing-data", OPENSCAD))
 MESH_SUFFIXES = (".off", ".obj", ".ply", ".stl")
 METHODS = {"split": [], "hybrid-10": ["--method", "hybrid", "--max-dihedral", "10"]}
 # sdmesh's exit codes (README, "Exit codes"): 0 certified, 1 not certified, 4 unsupported format,
@@ -56,7 +63,7 @@ def gather_meshes(work):
                         (target / name).parent.mkdir(parents=True, exist_ok=True)
                         (target / name).write_bytes(archive.extractfile(member).read())
         found += [p for p in target.rglob("*") if p.suffix.lower() in MESH_SUFFIXES]
-    for folder in (OCCT_STL, GEOMVIEW):
+    for _, folder in INSTALLED:
         if folder.exists():
             found += [p for p in folder.rglob("*") if p.suffix.lower() in MESH_SUFFIXES]
     return sorted(p for p in found if p.is_file())
@@ -64,7 +71,7 @@ def gather_meshes(work):
 
 def source_name(mesh, work):
     """The mesh's package and its path there, e.g. libcgal-demo:data/meshes/elk.off."""
-    for package, root in (("libcgal-demo", work / "meshes"), ("occt-misc", OCCT_STL), ("geomview", GEOMVIEW)):
+    for package, root in (("libcgal-demo", work / "meshes"), *INSTALLED):
         if mesh.is_relative_to(root):
             return f"{package}:{mesh.relative_to(root)}"
     return str(mesh)
@@ -92,9 +99,13 @@ def convert_one(sdmesh, mesh, method, work, timeout):
         row["exit_with_repair"], _, _ = run([sdmesh, "convert", str(mesh), str(converted), "--repair",
                                              *METHODS[method]], timeout)
         converted.unlink(missing_ok=True)
-    if code != 0 or not report.exists():
+    if code not in (0, 1) or not report.exists():
         return row
     r = json.loads(report.read_text())
+    if code == 1:
+        row.update(input_faces=r["input_faces"], status=r["status"])
+        converted.unlink(missing_ok=True)
+        return row
     added = r["output_vertices"] - r["input_vertices"]
     folds = r["input_nonflat_non_delaunay_edges"]
     row.update(input_faces=r["input_faces"], added_vertices=added, nonflat_non_delaunay_edges=folds,
@@ -115,14 +126,15 @@ def convert_one(sdmesh, mesh, method, work, timeout):
 
 
 def failed(row):
-    if row["exit"] in EXPECTED_REFUSALS:
+    if row["exit"] in EXPECTED_REFUSALS or (row["exit"] == 1 and row.get("status") == "budget_exhausted"):
         return False
     return row["exit"] != 0 or row.get("check_exit") != 0 or row.get("reconvert_work") != 0
 
 
 def summarize(rows, seconds):
     lines = ["# Conversion of meshes never used in development", "",
-             f"{len({r['mesh'] for r in rows})} mesh files from Debian's libcgal-demo, occt-misc and geomview, "
+             f"{len({r['mesh'] for r in rows})} mesh files from Debian's libcgal-demo, occt-misc, geomview, "
+             f"assimp-testmodels and openscad-testing-data, "
              f"each converted with split (the default) and hybrid at 10° by "
              f"`experiments/unseen_meshes/sweep.py` ({seconds:.0f} s on 2 jobs). A successful output must pass "
              f"`sdmesh check` and convert again with no flip and no split.", ""]
@@ -137,12 +149,16 @@ def summarize(rows, seconds):
                   "| exit | meaning | meshes |", "|---:|---|---:|"]
         for code, count in sorted(by_exit.items(), key=lambda kv: str(kv[0])):
             meaning = "certified" if code == 0 else EXPECTED_REFUSALS.get(code, "FAILURE")
+            if code == 1 and all(r.get("status") == "budget_exhausted" for r in mine if r["exit"] == 1):
+                meaning = "budget exhausted (reported status)"
             lines.append(f"| {code} | {meaning} | {count} |")
         invalid = [r for r in mine if r["exit"] == 6]
         repaired = sum(1 for r in invalid if r.get("exit_with_repair") == 0)
         lines += ["", f"Of the {len(invalid)} invalid meshes, {repaired} convert (certified) with `--repair`."]
         bad = [r for r in mine if failed(r)]
         lines += ["", f"Output checks failed or unexpected exits: {len(bad)}."]
+        for r in (r for r in mine if r["exit"] == 1):
+            lines += [f"Not certified: {r['mesh']} ({r['input_faces']:,} faces), status {r.get('status')}."]
         if effs:
             lines.append(f"Vertex efficiency over the {len(effs)} certified meshes with non-Delaunay folds: "
                          f"median {statistics.median(effs):.2f}, max {max(effs):.2f}.")
@@ -172,7 +188,8 @@ def main():
         (work / "outputs").mkdir(parents=True, exist_ok=True)
         meshes = gather_meshes(work)
         if not meshes:
-            sys.exit("sweep.py: no meshes found; apt-get install libcgal-demo occt-misc geomview")
+            sys.exit("sweep.py: no meshes found; apt-get install libcgal-demo occt-misc geomview "
+                     "assimp-testmodels openscad-testing-data")
         began = time.monotonic()
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
             rows = list(pool.map(lambda job: convert_one(args.sdmesh, job[0], job[1], work, args.timeout),

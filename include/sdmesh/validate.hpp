@@ -65,10 +65,14 @@ void require_manifold(const MeshInfo& info, const std::string& what);
 /// with no zero-area face. \throws InvalidMeshError "<what>: ..." naming the first defect.
 void require_oriented_manifold(const MeshInfo& info, const std::string& what);
 
-/// Safe repairs, each optional; they never move a vertex (and the surface by at most the height
-/// of a zero-area face, flip_caps). Applied in this order.
+/// Safe repairs, each optional; they move a vertex by at most 1e-12 of the bounding-box diagonal
+/// (merge_coincident_vertices) and the surface by at most the height of a zero-area face
+/// (flip_caps). Applied in this order.
 struct RepairOptions {
-    bool merge_coincident_vertices = true;  ///< vertices at exactly the same position become one
+    /// vertices at exactly the same position become one, and so do the two ends of a face side
+    /// shorter than 1e-12 of the bounding-box diagonal (the same point up to rounding); the
+    /// smallest index stays, where it was
+    bool merge_coincident_vertices = true;
     bool drop_repeated_index_faces = true;  ///< faces with two equal indices
     bool drop_duplicate_faces = true;       ///< keep the first face of each vertex set
     /// each fan of faces around a non-manifold vertex gets its own copy of the vertex (sheets
@@ -77,7 +81,8 @@ struct RepairOptions {
     bool orient = true;  ///< re-wind faces so each orientable component is consistent, keeping
                          ///< the orientation of its first face
     /// zero-area faces with a vertex inside their longest side (caps) are flipped away with the
-    /// face across that side, which the two new faces tile; needs the orientation repair
+    /// face across that side, which the two new faces tile, or dropped when that side is on the
+    /// boundary (their two other sides then run along it); needs the orientation repair
     bool flip_caps = true;
     bool drop_unreferenced_vertices = true; ///< compact V; remaining vertices keep their order
 };
@@ -90,6 +95,7 @@ struct RepairReport {
     int flipped_faces = 0;
     int non_orientable_components = 0;  ///< components left as they were
     int flipped_caps = 0;
+    int dropped_caps = 0;  ///< caps on the boundary, dropped by flip_caps
     int dropped_vertices = 0;
 };
 

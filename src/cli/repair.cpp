@@ -39,6 +39,7 @@ int run_repair(Args& args) {
         .add("flipped_faces", report.flipped_faces)
         .add("non_orientable_components", report.non_orientable_components)
         .add("flipped_caps", report.flipped_caps)
+        .add("dropped_caps", report.dropped_caps)
         .add("dropped_vertices", report.dropped_vertices)
         .add("vertices", info.vertices)
         .add("faces", info.faces)
