@@ -2,8 +2,8 @@
 // Collects what a reader finds (vertices, polygons) and turns it into a TriangleMesh.
 //
 // Shared by every format so that polygon triangulation and the ReadReport counts are done the
-// same way everywhere. Index validation stays with the readers: only they know where in the file an
-// index came from, which the error message must say.
+// same way everywhere. Index validation stays with the readers: only they know where in the file
+// an index came from, which the error message must say.
 
 #include <cstddef>
 #include <span>

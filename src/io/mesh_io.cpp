@@ -58,12 +58,10 @@ namespace {
 // and a file of huge combs stays linear in its size.
 constexpr std::size_t kEarClippingWorkPerCorner = 256;
 
-using RowMajorX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
-
 // Re-triangulates in place the polygon whose fan is `fan` (n - 2 rows of F), if that fan folds
 // over: ear clipping in the plane of the polygon's Newell normal, trying corners from 1 on, so
 // that it would clip the fan's own triangles where they are ears. Returns whether it did.
-bool unfold_polygon(const Eigen::MatrixX3d& V, Eigen::Ref<RowMajorX3i> fan) {
+bool unfold_polygon(const Eigen::MatrixX3d& V, Eigen::Ref<Eigen::MatrixX3i> fan) {
     const auto n = static_cast<std::size_t>(fan.rows()) + 2;
     auto read_corner = [&](std::size_t i) {
         return i < 2 ? fan(0, static_cast<Eigen::Index>(i)) : fan(static_cast<Eigen::Index>(i) - 2, 2);
@@ -140,17 +138,17 @@ bool unfold_polygon(const Eigen::MatrixX3d& V, Eigen::Ref<RowMajorX3i> fan) {
 
 TriangleMesh MeshBuilder::finish(ReadReport& report) const {
     using RowMajorX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+    using RowMajorX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
     TriangleMesh mesh;
     const auto n_vertices = static_cast<Eigen::Index>(xyz_.size() / 3);
     const auto n_triangles = static_cast<Eigen::Index>(triangles_.size() / 3);
     mesh.V = Eigen::Map<const RowMajorX3d>(xyz_.data(), n_vertices, 3);
-    RowMajorX3i triangles = Eigen::Map<const RowMajorX3i>(triangles_.data(), n_triangles, 3);
+    mesh.F = Eigen::Map<const RowMajorX3i>(triangles_.data(), n_triangles, 3);
     for (const PolygonFan& polygon : polygon_fans_) {
         const auto rows = static_cast<Eigen::Index>(polygon.corners) - 2;
         report.ear_clipped_polygons +=
-            unfold_polygon(mesh.V, triangles.middleRows(static_cast<Eigen::Index>(polygon.first_triangle), rows));
+            unfold_polygon(mesh.V, mesh.F.middleRows(static_cast<Eigen::Index>(polygon.first_triangle), rows));
     }
-    mesh.F = triangles;
     report.file_vertices = num_vertices();
     report.file_faces = faces_;
     report.polygons = polygons_;
