@@ -187,6 +187,15 @@ int find_edge(const EdgeTable& table, int u, int v) {
     return lo < table.num_edges() && table.E(lo, 0) == key[0] && table.E(lo, 1) == key[1] ? lo : -1;
 }
 
+// Removes the rows of F marked in `drop`, keeping the order of the others.
+void drop_faces(Eigen::MatrixX3i& F, const std::vector<char>& drop) {
+    if (std::find(drop.begin(), drop.end(), 1) == drop.end()) return;
+    Eigen::MatrixX3i kept(F.rows() - std::count(drop.begin(), drop.end(), 1), 3);
+    for (int f = 0, row = 0; f < F.rows(); ++f)
+        if (!drop[f]) kept.row(row++) = F.row(f);
+    F = std::move(kept);
+}
+
 // A cap is a zero-area face whose third vertex c lies inside its longest side a-b, away from both
 // ends (its shorter sides are at least kCapSide of a-b, far longer than its height). With the face
 // a-b-d across that side, the cap and that face become c-a-d and b-c-d, which tile a-b-d: the
@@ -224,6 +233,7 @@ MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
                 const bool inside_fan = ca >= 0 && cb >= 0 && table.face_count[ca] == 2 && table.face_count[cb] == 2;
                 if (inside_fan && on_boundary[c]) continue;
                 dropped[f] = touched[f] = 1;
+                on_boundary[c] = 1;  // a-c and c-b are boundary now
                 ++made;
                 ++mended.dropped;
                 continue;
@@ -240,12 +250,7 @@ MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
             ++made;
             ++mended.flipped;
         }
-        if (std::find(dropped.begin(), dropped.end(), 1) != dropped.end()) {
-            Eigen::MatrixX3i kept(F.rows() - std::count(dropped.begin(), dropped.end(), 1), 3);
-            for (int f = 0, row = 0; f < F.rows(); ++f)
-                if (!dropped[f]) kept.row(row++) = F.row(f);
-            F = std::move(kept);
-        }
+        drop_faces(F, dropped);
     }
     return mended;
 }
@@ -439,22 +444,16 @@ TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, Repa
             for (int k = 0; k < 3; ++k) out.F(f, k) = representative[out.F(f, k)];
     }
 
-    auto keep_faces = [&out](const std::vector<char>& drop) {
-        Eigen::MatrixX3i kept(out.num_faces() - std::count(drop.begin(), drop.end(), 1), 3);
-        for (int f = 0, row = 0; f < out.num_faces(); ++f)
-            if (!drop[f]) kept.row(row++) = out.F.row(f);
-        out.F = std::move(kept);
-    };
     if (options.drop_repeated_index_faces) {
         std::vector<char> drop(out.num_faces());
         for (int f = 0; f < out.num_faces(); ++f) drop[f] = has_repeated_index(out.F, f);
         counts.dropped_repeated_index_faces = static_cast<int>(std::count(drop.begin(), drop.end(), 1));
-        keep_faces(drop);
+        drop_faces(out.F, drop);
     }
     if (options.drop_duplicate_faces) {
         const std::vector<char> drop = duplicate_faces(out.F, out.num_vertices());
         counts.dropped_duplicate_faces = static_cast<int>(std::count(drop.begin(), drop.end(), 1));
-        keep_faces(drop);
+        drop_faces(out.F, drop);
     }
     if (options.split_nonmanifold_vertices) counts.split_vertices = split_nonmanifold_vertices(out);
     if (options.orient) {
