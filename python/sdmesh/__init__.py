@@ -10,6 +10,7 @@ C++ defaults and the CLI's names; reports are dicts with the keys of the CLI's J
 
     import sdmesh
     V, F = sdmesh.read_mesh("bunny.obj")
+    V, F, repaired = sdmesh.repair(V, F)                    # a messy mesh: the safe repairs first
     V2, F2, report = sdmesh.convert(V, F, method="hybrid")
     ops = sdmesh.operators(V2, F2, mass="circumcentric")      # ops["L"], ops["M"], ops["d0"], ...
     evals, evecs = sdmesh.eigs(ops["L"], ops["M"], k=20)
@@ -38,6 +39,7 @@ from ._sdmesh import (
     operators,
     poisson,
     read_mesh,
+    repair,
     write_mesh,
 )
 
@@ -60,5 +62,6 @@ __all__ = [
     "operators",
     "poisson",
     "read_mesh",
+    "repair",
     "write_mesh",
 ]

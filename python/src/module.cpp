@@ -165,6 +165,20 @@ py::dict check_py(py::handle V, py::handle F, const std::string& boundary, doubl
     return to_dict(report);
 }
 
+py::tuple repair_py(py::handle V, py::handle F, const RepairOptions& options) {
+    const TriangleMesh mesh = mesh_from_arrays(V, F);
+    RepairReport counts;
+    TriangleMesh repaired;
+    MeshInfo info;
+    {
+        py::gil_scoped_release unlocked;
+        repaired = repair(mesh, options, &counts);
+        info = validate(repaired);
+    }
+    const py::dict report = to_dict(cli::repair_json(counts, info));
+    return py::make_tuple(to_numpy(std::move(repaired.V)), to_numpy(std::move(repaired.F)), report);
+}
+
 py::tuple convert_py(py::handle V, py::handle F, const std::string& method, const std::string& split_rule,
                      double max_dihedral_deg, double coplanar_tolerance, const std::string& boundary, double tolerance,
                      long long max_vertices, int cascade_trials, int local_search, bool progress,
@@ -410,6 +424,35 @@ Raises UnsupportedFormatError, InvalidArgumentError, IoError.)");
 Validation and Delaunay certificate of a mesh: the keys of `sdmesh check --json` except those about
 the file (file, file_faces, polygons). boundary: "strict" or "free"; tolerance in radians.
 report["self_delaunay"] is the verdict. Raises InvalidMeshError (index out of range, non-finite).)");
+
+    const RepairOptions repair_defaults;
+    m.def(
+        "repair",
+        [](py::handle V, py::handle F, bool merge_coincident_vertices, bool drop_repeated_index_faces,
+           bool drop_duplicate_faces, bool split_nonmanifold_vertices, bool orient, bool flip_caps,
+           bool drop_unreferenced_vertices) {
+            return repair_py(V, F,
+                             {.merge_coincident_vertices = merge_coincident_vertices,
+                              .drop_repeated_index_faces = drop_repeated_index_faces,
+                              .drop_duplicate_faces = drop_duplicate_faces,
+                              .split_nonmanifold_vertices = split_nonmanifold_vertices,
+                              .orient = orient,
+                              .flip_caps = flip_caps,
+                              .drop_unreferenced_vertices = drop_unreferenced_vertices});
+        },
+        arg("V"), arg("F"), py::kw_only(), arg("merge_coincident_vertices") = repair_defaults.merge_coincident_vertices,
+        arg("drop_repeated_index_faces") = repair_defaults.drop_repeated_index_faces,
+        arg("drop_duplicate_faces") = repair_defaults.drop_duplicate_faces,
+        arg("split_nonmanifold_vertices") = repair_defaults.split_nonmanifold_vertices,
+        arg("orient") = repair_defaults.orient, arg("flip_caps") = repair_defaults.flip_caps,
+        arg("drop_unreferenced_vertices") = repair_defaults.drop_unreferenced_vertices,
+        R"(repair(V, F, *, merge_coincident_vertices=True, drop_repeated_index_faces=True,
+       drop_duplicate_faces=True, split_nonmanifold_vertices=True, orient=True, flip_caps=True,
+       drop_unreferenced_vertices=True) -> (V, F, report)
+
+The safe repairs of `sdmesh repair`, each on unless turned off (see sdmesh/validate.hpp): what
+to run before convert or decimate when they raise InvalidMeshError. report: the keys of
+`sdmesh repair`'s JSON except input/output. Raises InvalidMeshError (an index out of range).)");
 
     m.def("convert", &convert_py, arg("V"), arg("F"), py::kw_only(), arg("method") = std::string(to_string(convert_defaults.method)),
           arg("split_rule") = std::string(to_string(convert_defaults.split_rule)),

@@ -78,6 +78,32 @@ def test_check_equals_the_cli_json(cli, tmp_path, bunny_path, bunny, boundary):
         assert without_timings(report) == without_timings(expected)
 
 
+def test_repair_equals_the_cli_and_makes_a_messy_mesh_convertible(cli, tmp_path, bunny):
+    V, F = bunny
+    F = F.copy()
+    V = np.vstack([V, V[F[0, 0]], [[9.0, 9.0, 9.0]]])  # a copy of a vertex, and a vertex in no face
+    F[0, 0] = len(V) - 2
+    F[1] = F[1, ::-1]                                  # one face turned the wrong way
+    F = np.vstack([F, F[5]])                           # a face twice
+    messy = tmp_path / "messy.obj"
+    sdmesh.write_mesh(messy, V, F)
+    with pytest.raises(sdmesh.InvalidMeshError):
+        sdmesh.convert(V, F)
+    done = cli("repair", messy, tmp_path / "repaired.obj")
+    expected = cli_json(done)
+    del expected["input"], expected["output"]
+    V2, F2, report = sdmesh.repair(V, F)
+    assert report == expected
+    assert (report["merged_vertices"], report["flipped_faces"], report["dropped_duplicate_faces"],
+            report["dropped_vertices"]) == (1, 1, 1, 2)
+    V_cli, F_cli = sdmesh.read_mesh(tmp_path / "repaired.obj")
+    np.testing.assert_array_equal(V2, V_cli)
+    np.testing.assert_array_equal(F2, F_cli)
+    assert sdmesh.convert(V2, F2)[2]["status"] == "certified"
+    # Each repair can be turned off, as the CLI's --keep-... flags do.
+    assert sdmesh.repair(V, F, orient=False)[2]["flipped_faces"] == 0
+
+
 def test_convert_equals_the_cli(cli, tmp_path, bunny_path, bunny, converted_bunny):
     done = cli("convert", bunny_path, tmp_path / "out.obj", "--method", "hybrid", "--max-dihedral", "5")
     expected = cli_json(done)

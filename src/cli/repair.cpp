@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/json.hpp"
+#include "cli/reports.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/validate.hpp"
@@ -30,21 +31,7 @@ int run_repair(Args& args) {
     write_mesh(paths[1], repaired);
 
     JsonObject out;
-    out.add("input", paths[0])
-        .add("output", paths[1])
-        .add("merged_vertices", report.merged_vertices)
-        .add("dropped_repeated_index_faces", report.dropped_repeated_index_faces)
-        .add("dropped_duplicate_faces", report.dropped_duplicate_faces)
-        .add("split_vertices", report.split_vertices)
-        .add("flipped_faces", report.flipped_faces)
-        .add("non_orientable_components", report.non_orientable_components)
-        .add("flipped_caps", report.flipped_caps)
-        .add("dropped_caps", report.dropped_caps)
-        .add("dropped_vertices", report.dropped_vertices)
-        .add("vertices", info.vertices)
-        .add("faces", info.faces)
-        .add("manifold", info.manifold())
-        .add("orientable", info.orientable);
+    out.add("input", paths[0]).add("output", paths[1]).merge(repair_json(report, info));
     std::cout << out.str() << '\n';
     if (const std::string defect = first_defect(info); !defect.empty())
         std::cerr << "sdmesh repair: " << paths[1] << " is still not a manifold: " << defect << '\n';

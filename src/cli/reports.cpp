@@ -78,6 +78,24 @@ JsonObject read_report_json(const ReadReport& read) {
     return json;
 }
 
+JsonObject repair_json(const RepairReport& report, const MeshInfo& repaired) {
+    JsonObject json;
+    json.add("merged_vertices", report.merged_vertices)
+        .add("dropped_repeated_index_faces", report.dropped_repeated_index_faces)
+        .add("dropped_duplicate_faces", report.dropped_duplicate_faces)
+        .add("split_vertices", report.split_vertices)
+        .add("flipped_faces", report.flipped_faces)
+        .add("non_orientable_components", report.non_orientable_components)
+        .add("flipped_caps", report.flipped_caps)
+        .add("dropped_caps", report.dropped_caps)
+        .add("dropped_vertices", report.dropped_vertices)
+        .add("vertices", repaired.vertices)
+        .add("faces", repaired.faces)
+        .add("manifold", repaired.manifold())
+        .add("orientable", repaired.orientable);
+    return json;
+}
+
 JsonObject certificate_json(const DelaunayCertificate& cert, const CertifyOptions& options) {
     const double fraction = cert.interior_edges > 0 ? double(cert.non_delaunay_edges) / cert.interior_edges : 0.0;
     JsonObject json;

@@ -44,6 +44,10 @@ JsonObject mesh_info_json(const MeshInfo& info);
 /// What `sdmesh check --json` adds about the file: file_faces, polygons.
 JsonObject read_report_json(const ReadReport& read);
 
+/// What `sdmesh repair` did (merged_vertices ... dropped_vertices) and what came of it
+/// (vertices, faces, manifold, orientable); `repaired` is validate() of the result.
+JsonObject repair_json(const RepairReport& report, const MeshInfo& repaired);
+
 /// The certificate's counts and verdict (the keys of `sdmesh check --json` that concern it).
 JsonObject certificate_json(const DelaunayCertificate& cert, const CertifyOptions& options);
 
