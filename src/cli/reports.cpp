@@ -74,7 +74,9 @@ JsonObject mesh_info_json(const MeshInfo& info) {
 
 JsonObject read_report_json(const ReadReport& read) {
     JsonObject json;
-    json.add("file_faces", read.file_faces).add("polygons", read.polygons);
+    json.add("file_faces", read.file_faces)
+        .add("polygons", read.polygons)
+        .add("ear_clipped_polygons", read.ear_clipped_polygons);
     return json;
 }
 
