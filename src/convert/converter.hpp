@@ -591,13 +591,15 @@ private:
     // non-Delaunay edge). Else the middle of the range.
     double usual_position(const Hinge& k, double l, Interval range, int on_input_edge) const;
     // The foot of the perpendicular from an apex of k that is a split point across a plane
-    // (lies_across_plane), if it lies inside `within` and keeps every physical outer side.
-    // Such a point breaks pieces of the plane's far sides, whose points then break pieces near
-    // it, back and forth (cheese's flat sides); at its foot the two points make a right angle,
-    // which ends that: cheese 11.6 -> 10.7 vertices added per non-Delaunay edge, the other
-    // corpus meshes within 0.1 %.
-    std::optional<double> foot_across_plane(const Hinge& k, double l, const OuterSides& sides, Interval within,
-                                            int on_input_edge) const;
+    // (lies_across_plane), if both halves are locally Delaunay there and every physical outer
+    // side it breaks is a thin face's long side, across which split_across_strips carries the
+    // cut on. Such a point breaks pieces of the plane's far sides, whose points then break pieces
+    // near it, back and forth (cheese's flat sides); at its foot the two points make a right
+    // angle, which ends that: cheese 11.6 -> 10.7 vertices added per non-Delaunay edge, the other
+    // corpus meshes within 0.1 %. Around a shaft of planar and warped long rectangles, the feet
+    // and the strip cuts make one ring at one height (ANoisyShaftTakesRingsOfPoints: 53-71
+    // vertices where the interval rule's heights of their own took up to 14,000).
+    std::optional<double> foot_across_plane(const Hinge& k, double l, const OuterSides& sides, int on_input_edge) const;
     // Whether split point y lies on none of the input edges of the faces beside input edge e:
     // as an apex of a piece of e, it sees it from across a plane of several input faces.
     bool lies_across_plane(int y, int e) const;

@@ -40,10 +40,9 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     }
     if (near_input_vertex && !best.keeps_physical) return shell_distance(k, l);
     if (best.weight < 0) return 0.5 * l;
+    if (const std::optional<double> foot = foot_across_plane(k, l, sides, on_input_edge)) return *foot;
     if (!best.keeps_physical)
         return least_cascading(k, l, sides, away_from_ends(kEndClearance), on_input_edge, alternatives);
-    if (const std::optional<double> foot = foot_across_plane(k, l, sides, away_from_ends(kNearEnd), on_input_edge))
-        return *foot;
     return sparing_neighbours(k, l, best.range, on_input_edge);
 }
 
@@ -191,13 +190,29 @@ double Converter::usual_position(const Hinge& k, double l, Interval range, int o
     return dyadic >= 0 ? dyadic : 0.5 * (range.lo + range.hi);
 }
 
-std::optional<double> Converter::foot_across_plane(const Hinge& k, double l, const OuterSides& sides, Interval within,
+std::optional<double> Converter::foot_across_plane(const Hinge& k, double l, const OuterSides& sides,
                                                    int on_input_edge) const {
     if (on_input_edge < 0) return std::nullopt;
     for (const int y : {k.r, k.s}) {
         if (y < input_vertices_ || !lies_across_plane(y, on_input_edge)) continue;
         const double foot = (P_[y] - P_[k.a]).dot(P_[k.b] - P_[k.a]) / l;
-        if (foot >= within.lo && foot <= within.hi && sides.keeps_physical_at(foot)) return foot;
+        if (!(foot >= kNearEnd * l && foot <= (1 - kNearEnd) * l)) continue;
+        // Both halves locally Delaunay, judged by their angles: on a long thin piece the foot
+        // can lie 4e-5 of the piece from the end of I0 with a margin of 0.5° in its angles.
+        const Eigen::Vector3d x = P_[k.a] + (foot / l) * (P_[k.b] - P_[k.a]);
+        auto half_keeps = [&](int end) {
+            double cotangents = cotangent_seen_from(P_[k.r], P_[end], x);
+            if (k.s >= 0) cotangents += cotangent_seen_from(P_[k.s], P_[end], x);
+            return cotangents >= kPlacementMargin;
+        };
+        if (!half_keeps(k.a) || !half_keeps(k.b)) continue;
+        bool carried = true;  // every physical side the foot breaks is cut on as a strip
+        for (int i = 0; i < sides.count && carried; ++i) {
+            if (!(sides.physical >> i & 1u) || (foot >= sides.keeps[i].lo && foot <= sides.keeps[i].hi)) continue;
+            const int end = i % 2 == 0 ? k.a : k.b, other = end == k.a ? k.b : k.a, apex = i < 2 ? k.r : k.s;
+            carried = corner_below(dist(other, apex), dist(end, other), dist(end, apex), kThinCornerTangent);
+        }
+        if (carried) return foot;
     }
     return std::nullopt;
 }
