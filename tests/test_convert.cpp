@@ -100,12 +100,13 @@ TriangleMesh drum(int n) {
     return mesh;
 }
 
-// A shaft as CAD exporters write it: `sides` rectangles of length 884 and width about 3.5 around
-// an axis, each cut by one diagonal, and a fan for each cap. Exactly placed, every rectangle's
-// corners are co-circular and the mesh is self-Delaunay; the rim corners are then moved by up to
-// `noise` (uniform, from a generator the standard fixes), which leaves some diagonals folds that
-// are not locally Delaunay by about the noise over the width.
-TriangleMesh noisy_shaft(int sides, double noise, unsigned seed) {
+// A shaft as CAD exporters write it: `sides` rectangles of the given length and of width about
+// 2π·20/sides around an axis, each cut by one diagonal (all the same way, or alternately in a
+// zigzag), and a fan for each cap. Exactly placed, every rectangle's corners are co-circular and
+// the mesh is self-Delaunay; the rim corners are then moved by up to `noise` (uniform, from a
+// generator the standard fixes), which leaves some diagonals folds that are not locally Delaunay
+// by about the noise over the width, and some rectangles planar within the coplanar tolerance.
+TriangleMesh noisy_shaft(int sides, double length, bool zigzag, double noise, unsigned seed) {
     std::mt19937 generator(seed);
     auto jitter = [&] { return noise * (2.0 * generator() / std::mt19937::max() - 1.0); };
     TriangleMesh mesh;
@@ -114,15 +115,20 @@ TriangleMesh noisy_shaft(int sides, double noise, unsigned seed) {
         for (int i = 0; i < sides; ++i) {
             const double angle = 2 * std::numbers::pi * i / sides;
             mesh.V.row(rim * sides + i) << 20 * std::cos(angle) + jitter(), 20 * std::sin(angle) + jitter(),
-                884 * rim + jitter();
+                length * rim + jitter();
         }
     mesh.V.row(2 * sides) << 0, 0, 0;
-    mesh.V.row(2 * sides + 1) << 0, 0, 884;
+    mesh.V.row(2 * sides + 1) << 0, 0, length;
     mesh.F.resize(4 * sides, 3);
     for (int i = 0; i < sides; ++i) {
         const int j = (i + 1) % sides;
-        mesh.F.row(4 * i) << i, j, sides + j;
-        mesh.F.row(4 * i + 1) << i, sides + j, sides + i;
+        if (zigzag && i % 2 == 1) {
+            mesh.F.row(4 * i) << i, j, sides + i;
+            mesh.F.row(4 * i + 1) << j, sides + j, sides + i;
+        } else {
+            mesh.F.row(4 * i) << i, j, sides + j;
+            mesh.F.row(4 * i + 1) << i, sides + j, sides + i;
+        }
         mesh.F.row(4 * i + 2) << 2 * sides, j, i;
         mesh.F.row(4 * i + 3) << 2 * sides + 1, sides + i, sides + j;
     }
@@ -536,21 +542,35 @@ TEST(ConvertMethods, APointAcrossAPlaneTakesItsFootOnTheFarSide) {
     }
 }
 
-// A shaft whose diagonals are non-Delaunay by a few 1e-10 rad, near the locally-Delaunay
-// tolerance: one ring of points around it mends every rectangle. Where a split point on a long
-// edge lay across a planar rectangle from the last one, its foot (the ring's height) sat within
-// 4e-5 of the end of the range where both halves are locally Delaunay, though with a margin of
-// 0.5° in their angles; the range's inset took it away, the next points went to heights of
-// their own, and rings out of step by a hair took 10,000-14,000 vertices on 4 of 6 draws. The
-// foot is now judged by the halves' angles, and taken where the sides it breaks are thin faces
-// that carry the cut on (as a strip cut).
+// A shaft (36 rectangles of 884 x 3.5) whose diagonals are non-Delaunay by a few 1e-10 rad,
+// near the locally-Delaunay tolerance: one ring of points around it mends every rectangle. A
+// ring of strip cuts stops at a planar rectangle, whose diagonal is flipped; the far edge of the
+// plane takes the foot of the last point. That foot sat 4e-5 of the edge inside the end of the
+// range where both halves are locally Delaunay (with a margin of 0.5° in their angles), and the
+// range's inset took it away; the next points went to heights of their own, and rings out of
+// step by a hair took 10,000-14,000 vertices on 4 of 6 draws. The foot is now judged by the
+// halves' angles, and taken where the sides it breaks are thin faces that carry the cut on.
 TEST(ConvertMethods, ANoisyShaftTakesRingsOfPoints) {
     for (const double noise : {3e-10, 1e-9, 3e-9})
         for (unsigned seed = 1; seed <= 3; ++seed) {
-            const TriangleMesh shaft = noisy_shaft(36, noise, seed);
+            const TriangleMesh shaft = noisy_shaft(36, 884, false, noise, seed);
             const ConversionReport r = convert(shaft).report;
             ASSERT_EQ(r.status, ConvertStatus::certified) << noise << " " << seed;
             EXPECT_LE(r.output_vertices - r.input_vertices, 2 * 72) << "noise " << noise << ", seed " << seed;
+        }
+}
+
+// The same with the diagonals cut zigzag (48 rectangles of 300 x 2.6): each long edge has the
+// thin corners of both its faces at one end, so it counts as a needle, whose split points
+// followed shells around that end instead of the ring's height; with noise from 3e-10 to 1e-8,
+// 7,000-12,600 vertices. Where that end is no fan's apex, the foot across a plane comes first.
+TEST(ConvertMethods, ANoisyZigzagDrumTakesRingsOfPoints) {
+    for (const double noise : {3e-10, 1e-9, 1e-8})
+        for (unsigned seed = 1; seed <= 3; ++seed) {
+            const TriangleMesh drum = noisy_shaft(48, 300, true, noise, seed);
+            const ConversionReport r = convert(drum).report;
+            ASSERT_EQ(r.status, ConvertStatus::certified) << noise << " " << seed;
+            EXPECT_LE(r.output_vertices - r.input_vertices, 2 * 96) << "noise " << noise << ", seed " << seed;
         }
 }
 

@@ -98,6 +98,19 @@ inline double cotangent_seen_from(const Eigen::Vector3d& y, const Eigen::Vector3
     return sine > 0 ? a.dot(b) / sine : std::numeric_limits<double>::infinity();
 }
 
+// Whether both halves of a-b, split at x, are locally Delaunay with apexes y and z (z null: a
+// boundary edge), by kPlacementMargin in their cotangent sums. On a long thin piece a comfortable
+// margin in angle spans a long stretch of the edge, which an inset of I0 along it misses.
+inline bool halves_keep_margin(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& x,
+                               const Eigen::Vector3d& y, const Eigen::Vector3d* z) {
+    for (const Eigen::Vector3d* end : {&a, &b}) {
+        double cotangents = cotangent_seen_from(y, *end, x);
+        if (z) cotangents += cotangent_seen_from(*z, *end, x);
+        if (!(cotangents >= kPlacementMargin)) return false;
+    }
+    return true;
+}
+
 // The hinge of an edge seen from halfedge h = (a -> b) with apex r, and its twin's apex s
 // (s = -1 on the boundary).
 struct Hinge {

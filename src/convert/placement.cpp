@@ -12,9 +12,19 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     // rings that close. Interval points (or shells from either end) left rings out of step
     // that marched along the needles: a 90-needle cone took 51,328 vertices, 180 needles
     // more than the vertex budget; now 4,150 and 14,043.
-    if (const int apex = on_input_edge >= 0 ? needle_end(on_input_edge) : -1; apex >= 0)
-        return shell_distance_around(apex, k, l);
-    if (options_.split_rule == SplitRule::shell) return shell_distance(k, l);
+    const int needle_apex = on_input_edge >= 0 ? needle_end(on_input_edge) : -1;
+    if (options_.split_rule == SplitRule::shell)
+        return needle_apex >= 0 ? shell_distance_around(needle_apex, k, l) : shell_distance(k, l);
+    const OuterSides sides = outer_sides(k, l);
+    if (needle_apex >= 0) {
+        // Where the apex is a corner of a strip, not of a fan (in a band cut zigzag, each long
+        // edge has its two thin corners at one end), the ring of points across a plane goes
+        // on at its height: shells there took up to 12,600 vertices around a noisy zigzag
+        // drum (ConvertMethods.ANoisyZigzagDrumTakesRingsOfPoints; cheese 10.74 -> 10.61).
+        if (thin_corners_[needle_apex] <= kMaxStripCorners)
+            if (const std::optional<double> foot = foot_across_plane(k, l, sides, on_input_edge)) return *foot;
+        return shell_distance_around(needle_apex, k, l);
+    }
     // Short pieces that end at an input vertex follow the shells, unless an interval point
     // keeps every physical outer side locally Delaunay: two input edges meeting at a small
     // angle would otherwise split each other ever finer. Longer ones take the interval rule,
@@ -26,7 +36,6 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     // Hard constraint: I0, where both halves are locally Delaunay.
     const Interval halves = delaunay_halves_interval(k, l);
     auto away_from_ends = [&](double clearance) { return Converter::away_from_ends(halves, l, clearance); };
-    const OuterSides sides = outer_sides(k, l);
     const SideChoice best = sides.most_weight(away_from_ends(kEndClearance));
     if (best.weight < sides.total_weight) {
         // A point near an end can keep every physical side where the piece's middle cannot:
@@ -197,15 +206,10 @@ std::optional<double> Converter::foot_across_plane(const Hinge& k, double l, con
         if (y < input_vertices_ || !lies_across_plane(y, on_input_edge)) continue;
         const double foot = (P_[y] - P_[k.a]).dot(P_[k.b] - P_[k.a]) / l;
         if (!(foot >= kNearEnd * l && foot <= (1 - kNearEnd) * l)) continue;
-        // Both halves locally Delaunay, judged by their angles: on a long thin piece the foot
-        // can lie 4e-5 of the piece from the end of I0 with a margin of 0.5° in its angles.
+        // Judged by angles, not by I0 less its inset: the foot can lie 4e-5 of the piece from
+        // I0's end with a margin of 0.5° in the halves' angles.
         const Eigen::Vector3d x = P_[k.a] + (foot / l) * (P_[k.b] - P_[k.a]);
-        auto half_keeps = [&](int end) {
-            double cotangents = cotangent_seen_from(P_[k.r], P_[end], x);
-            if (k.s >= 0) cotangents += cotangent_seen_from(P_[k.s], P_[end], x);
-            return cotangents >= kPlacementMargin;
-        };
-        if (!half_keeps(k.a) || !half_keeps(k.b)) continue;
+        if (!halves_keep_margin(P_[k.a], P_[k.b], x, P_[k.r], k.s >= 0 ? &P_[k.s] : nullptr)) continue;
         bool carried = true;  // every physical side the foot breaks is cut on as a strip
         for (int i = 0; i < sides.count && carried; ++i) {
             if (!(sides.physical >> i & 1u) || (foot >= sides.keeps[i].lo && foot <= sides.keeps[i].hi)) continue;
