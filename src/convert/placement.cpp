@@ -11,20 +11,17 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     // ends lie anywhere: split points at the same distances from the apex, ignoring I0, make
     // rings that close. Interval points (or shells from either end) left rings out of step
     // that marched along the needles: a 90-needle cone took 51,328 vertices, 180 needles
-    // more than the vertex budget; now 4,150 and 14,043.
+    // more than the vertex budget; now 4,150 and 14,043. An end with at most kMaxStripCorners
+    // thin corners is no fan's apex but a corner of a strip (in a band cut zigzag, each long
+    // edge has the thin corners of both its faces at one end): there the interval rule and
+    // the feet across planes keep the strip's rings in step, where shells took up to 12,600
+    // vertices around a noisy zigzag drum (ConvertMethods.ANoisyZigzagDrumTakesRingsOfPoints),
+    // and fewer points on the corpus (cheese 10.74 -> 10.52, skull 1.532 -> 1.526).
     const int needle_apex = on_input_edge >= 0 ? needle_end(on_input_edge) : -1;
     if (options_.split_rule == SplitRule::shell)
         return needle_apex >= 0 ? shell_distance_around(needle_apex, k, l) : shell_distance(k, l);
-    const OuterSides sides = outer_sides(k, l);
-    if (needle_apex >= 0) {
-        // Where the apex is a corner of a strip, not of a fan (in a band cut zigzag, each long
-        // edge has its two thin corners at one end), the ring of points across a plane goes
-        // on at its height: shells there took up to 12,600 vertices around a noisy zigzag
-        // drum (ConvertMethods.ANoisyZigzagDrumTakesRingsOfPoints; cheese 10.74 -> 10.61).
-        if (thin_corners_[needle_apex] <= kMaxStripCorners)
-            if (const std::optional<double> foot = foot_across_plane(k, l, sides, on_input_edge)) return *foot;
+    if (needle_apex >= 0 && thin_corners_[needle_apex] > kMaxStripCorners)
         return shell_distance_around(needle_apex, k, l);
-    }
     // Short pieces that end at an input vertex follow the shells, unless an interval point
     // keeps every physical outer side locally Delaunay: two input edges meeting at a small
     // angle would otherwise split each other ever finer. Longer ones take the interval rule,
@@ -36,6 +33,7 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     // Hard constraint: I0, where both halves are locally Delaunay.
     const Interval halves = delaunay_halves_interval(k, l);
     auto away_from_ends = [&](double clearance) { return Converter::away_from_ends(halves, l, clearance); };
+    const OuterSides sides = outer_sides(k, l);
     const SideChoice best = sides.most_weight(away_from_ends(kEndClearance));
     if (best.weight < sides.total_weight) {
         // A point near an end can keep every physical side where the piece's middle cannot:
