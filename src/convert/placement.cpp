@@ -22,11 +22,12 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
         return needle_apex >= 0 ? shell_distance_around(needle_apex, k, l) : shell_distance(k, l);
     if (needle_apex >= 0 && thin_corners_[needle_apex] > kMaxStripCorners)
         return shell_distance_around(needle_apex, k, l);
-    // Short pieces that end at an input vertex follow the shells, unless an interval point
-    // keeps every physical outer side locally Delaunay: two input edges meeting at a small
-    // angle would otherwise split each other ever finer. Longer ones take the interval rule,
-    // which adds fewer vertices (a quarter of the input edge: measured on the corpus,
-    // shorter thresholds gain nothing more).
+    // Short pieces that end at a fan's apex follow the shells, unless an interval point keeps
+    // every physical outer side locally Delaunay: input edges meeting there at small angles
+    // would otherwise split each other ever finer. Longer ones take the interval rule, which
+    // adds fewer vertices (a quarter of the input edge: measured on the corpus, shorter
+    // thresholds gain nothing more), and so do short ones at other input vertices, as at a
+    // strip's corners (shells at every input vertex: cheese 10.36 -> 10.52).
     const bool near_input_vertex =
         (k.a < input_vertices_) != (k.b < input_vertices_) &&
         (on_input_edge < 0 || l < kShellPieceFraction * input_length_[on_input_edge]);
@@ -45,7 +46,8 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
         if (near_end.keeps_physical && near_end.weight > best.weight)
             return 0.5 * (near_end.range.lo + near_end.range.hi);
     }
-    if (near_input_vertex && !best.keeps_physical) return shell_distance(k, l);
+    if (near_input_vertex && !best.keeps_physical && thin_corners_[k.a < input_vertices_ ? k.a : k.b] > kMaxStripCorners)
+        return shell_distance(k, l);
     if (best.weight < 0) return 0.5 * l;
     if (const std::optional<double> foot = foot_across_plane(k, l, sides, on_input_edge)) return *foot;
     if (!best.keeps_physical)
