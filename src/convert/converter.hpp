@@ -510,11 +510,12 @@ private:
             }
         }
 
-        // Whether the point at distance t from a keeps every physical side locally Delaunay.
-        bool keeps_physical_at(double t) const {
+        // The physical sides (bit i: side i) that a point at distance t from a breaks.
+        unsigned physical_broken_at(double t) const {
+            unsigned broken = 0;
             for (int i = 0; i < count; ++i)
-                if ((physical >> i & 1u) && (t < keeps[i].lo || t > keeps[i].hi)) return false;
-            return true;
+                if ((physical >> i & 1u) && (t < keeps[i].lo || t > keeps[i].hi)) broken |= 1u << i;
+            return broken;
         }
 
         // The feasible subset of most weight (the first found) inside `within`.

@@ -211,8 +211,9 @@ std::optional<double> Converter::foot_across_plane(const Hinge& k, double l, con
         const Eigen::Vector3d x = P_[k.a] + (foot / l) * (P_[k.b] - P_[k.a]);
         if (!halves_keep_margin(P_[k.a], P_[k.b], x, P_[k.r], k.s >= 0 ? &P_[k.s] : nullptr)) continue;
         bool carried = true;  // every physical side the foot breaks is cut on as a strip
+        const unsigned broken = sides.physical_broken_at(foot);
         for (int i = 0; i < sides.count && carried; ++i) {
-            if (!(sides.physical >> i & 1u) || (foot >= sides.keeps[i].lo && foot <= sides.keeps[i].hi)) continue;
+            if (!(broken >> i & 1u)) continue;
             const int end = i % 2 == 0 ? k.a : k.b, other = end == k.a ? k.b : k.a, apex = i < 2 ? k.r : k.s;
             carried = corner_below(dist(other, apex), dist(end, other), dist(end, apex), kThinCornerTangent);
         }
