@@ -298,6 +298,35 @@ TEST(DecimatePlanes, SubdividedFacesLoseTheirVerticesExactly) {
     }
 }
 
+// A mangled icosahedron with one vertex 2e8 away (a fuzzer's find): the split conversion fills
+// the spike with planar quads of aspect up to 1.6e7, nearly co-circular, whose LD verdicts are
+// rounding either way (margins of ±1e-9). A flip inside a plane used to be taken whenever the old
+// diagonal failed the test, and the new diagonal then failed the certificate.
+TEST(DecimatePlanes, FlipsInNeedleQuadsKeepTheCertificate) {
+    TriangleMesh mesh;
+    mesh.V.resize(12, 3);
+    mesh.V << -0.52573110999999995, 211913359, 0.85062080835204001,  //
+        0.52573111211913359, 0.85065080835203999, 0,                 //
+        -0.52573111211193357, -0.85065080835203999, 0,               //
+        0.52573111211913359, -0.85065503080284, 0,                   //
+        0, -0.52573111211913359, 0.850301617470408,                  //
+        0, 0.52573111211913359, 0.85865000835203997,                 //
+        0, -5.2571555605956677, -0.85065080835213747,                //
+        0, 0.52573111211913359, 0.85065080835203999,                 //
+        0, -5.2573111211913357, -0.85065080805203996,                //
+        0, 0.52573111211913359, -0.85065080835203999,                //
+        0.85065039990000002, 0, -0.5257351121191336,                 //
+        -0.85065080835203999, 0, 0.52573111211913937;
+    mesh.F.resize(20, 3);
+    mesh.F << 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8, 3, 9, 4,
+        3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1;
+    const ConversionResult converted = convert(mesh, {.method = ConvertMethod::split});
+    ASSERT_EQ(converted.report.status, ConvertStatus::certified);
+    const DecimateResult result = decimate(converted.mesh, {.target_ratio = 0.3});
+    EXPECT_EQ(result.report.status, DecimateStatus::reached_target);
+    expect_same_topology_and_self_delaunay(converted.mesh, result.mesh, BoundaryPolicy::strict, "needle quads");
+}
+
 class DecimateCorpus : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(DecimateCorpus, ConvertedMeshDecimatesToOneFifth) {
