@@ -91,7 +91,8 @@ struct HausdorffOptions {
     long long max_samples = 10'000'000;
 };
 
-/// Result of hausdorff_distance. Sampled values never exceed the true ones; a one-sided true
+/// Result of hausdorff_distance. Sampled values never exceed the true ones, but for the height
+/// a needle adds (closest_point_on_triangle: at most 1e-8 of its longest edge); a one-sided true
 /// distance exceeds its sampled value by at most 2/(3k) of the longest edge of the sampled mesh
 /// (every point of a face is that close to the centroid of its sub-triangle).
 struct HausdorffReport {
