@@ -109,7 +109,7 @@ TriangleMesh drum(int n) {
 // the coplanar tolerance (experiments/conversion_table/noisy_bands.py has more such bands).
 TriangleMesh noisy_shaft(int sides, int rows, double length, bool zigzag, double noise, unsigned seed) {
     std::mt19937 generator(seed);
-    auto jitter = [&] { return noise * (2.0 * generator() / std::mt19937::max() - 1.0); };
+    auto jitter = [&] { return noise * (2.0 * static_cast<double>(generator()) / std::mt19937::max() - 1.0); };
     TriangleMesh mesh;
     const int rings = rows + 1, caps = rings * sides;
     mesh.V.resize(caps + 2, 3);
