@@ -293,6 +293,43 @@ std::vector<Case> split_cases() {
 INSTANTIATE_TEST_SUITE_P(Adversarial, Convert, ::testing::ValuesIn(cases()), case_name);
 INSTANTIATE_TEST_SUITE_P(Adversarial, ConvertSplit, ::testing::ValuesIn(split_cases()), case_name);
 
+// Icosahedra mangled by the fuzzer, with coordinates of 2e8 or 1e9 among ones near 1: their spikes
+// are planar quads of needles where both diagonals fail the LD test by rounding (margins of
+// -1e-9) or as badly as -π. A flip there used to be taken and left its other diagonal failing:
+// the outputs were not certified. Now such an edge is split.
+TEST(ConvertMethods, NoFlipLeavesANonDelaunayDiagonal) {
+    TriangleMesh spike = make_icosphere(0), spikes = make_icosphere(0);
+    spike.V << -0.52573110999999995, 211913359, 0.85062080835204001,  //
+        0.5257311111219336, 0.85065582380203997, 0,                   //
+        -0.52573111211193357, -0.85065080835203999, 0,                //
+        0.52573111211913359, -0.85065503002884002, 0,                 //
+        0, -0.52573111211913359, 0.85030161770907453,                 //
+        0, 0.52573111211913359, 0.85865000835203997,                  //
+        0, -5.2571555605956677, -0.85065080835213747,                 //
+        0, 0.52573111211913359, 0.85065080835203999,                  //
+        0, -5.2573111211913357, -0.85065080805203996,                 //
+        0, 0.52573111211913359, -0.85065080835203999,                 //
+        0.85065039990000002, 3, 6,                                    //
+        -0.85065080835203999, 0, 0.52573111211913937;
+    spikes.V << -0.5257311121591336, 0.85065088835203995, 0,  //
+        0.52573111211913359, 0.85056080835203995, 0,          //
+        -0.52573111211913359, -0.85065080835203999, 0,        //
+        0.52573111211913359, -0.85065080835203999, 0,         //
+        0, 1033930809, 0.85065080873520404,                   //
+        0, 0.52573111211913359, 0.85065080835203999,          //
+        0, -0.5211913359, -0.85065000000000002,               //
+        0, 0.52573111211913359, -0.85065080835203999,         //
+        0.85305008685203998, 0, -0.525731159,                 //
+        0.85305008685203998, 0, -0.52573111211913359,         //
+        0.85065080835203999, 0, 1913359,                      //
+        -0.85065080835203999, 0, 0.52573111211913359;
+    for (const auto& [name, mesh] : {std::pair{"spike", spike}, std::pair{"spikes", spikes}})
+        for (const ConvertMethod method : {ConvertMethod::split, ConvertMethod::hybrid}) {
+            const ConversionResult result = convert(mesh, {.method = method});
+            EXPECT_EQ(result.report.status, ConvertStatus::certified) << name << ", " << to_string(method);
+        }
+}
+
 TEST(ConvertMethods, FlipCannotFixTheFlatTetrahedron) {
     const ConversionResult result = convert(adversarial("valence3"), {.method = ConvertMethod::flip});
     EXPECT_EQ(result.report.status, ConvertStatus::not_certified);

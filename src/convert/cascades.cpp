@@ -81,7 +81,7 @@ long long Converter::splits_after(int e, double t, long long at_most) {
         const int g = pop();
         if (g < 0 || mesh_.num_vertices() >= vertex_budget_) break;
         if (mesh_.is_removed_edge(g) || is_delaunay(g)) continue;
-        if (is_flat(g, flat_angle_) && is_flippable(g)) {
+        if (heals_by_flip(g)) {
             flip(g);
             ++flips;
         } else {
@@ -91,7 +91,7 @@ long long Converter::splits_after(int e, double t, long long at_most) {
     trial_splits_ += trial.splits;
     long long cost = trial.splits;
     auto still_to_split = [&](int g) {
-        return !mesh_.is_removed_edge(g) && !is_delaunay(g) && !(is_flat(g, flat_angle_) && is_flippable(g));
+        return !mesh_.is_removed_edge(g) && !is_delaunay(g) && !heals_by_flip(g);
     };
     for (int g = pop(); g >= 0; g = pop()) cost += still_to_split(g);  // entries may have healed
     rollback();

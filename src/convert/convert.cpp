@@ -112,7 +112,7 @@ void Converter::drain(ConversionReport& report, long long max_splits) {
         const int e = pop();
         if (e < 0) break;
         if (mesh_.is_removed_edge(e) || is_delaunay(e)) continue;
-        if (is_flat(e, flat_angle_) && is_flippable(e)) {
+        if (heals_by_flip(e)) {
             if (report.flips >= flip_budget_) {
                 report.status = ConvertStatus::budget_exhausted;
                 break;

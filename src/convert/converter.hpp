@@ -455,6 +455,17 @@ private:
                below_straight(cosine_numerator(ar, l, br), cosine_numerator(as, l, bs), br, bs);
     }
 
+    // Whether a flip fixes the non-LD edge e: e is flat (within flat_angle_), flippable, and the
+    // other diagonal passes the LD test. In exact arithmetic it does whenever e fails; in a nearly
+    // co-circular quad of needles both verdicts are rounding (±1e-9 rad), and a flip there would
+    // leave a non-LD diagonal behind, so such an edge is split instead.
+    bool heals_by_flip(int e) const {
+        if (!is_flat(e, flat_angle_) || !is_flippable(e)) return false;
+        const Hinge k = hinge(e);
+        return is_locally_delaunay_with_tangent(dist(k.r, k.s), dist(k.a, k.r), dist(k.a, k.s), dist(k.b, k.r),
+                                                dist(k.b, k.s), tan_tolerance_);
+    }
+
     void flip(int e);
 
     struct Interval {
