@@ -24,8 +24,9 @@ for target in read_mesh pipeline; do
     inputs=("$dir/corpus/$target" "$dir/seeds")
     if [[ -d "tests/fuzz/regressions/$target" ]]; then inputs+=("tests/fuzz/regressions/$target"); fi
     echo "fuzz_$target: $seconds s"
-    # -timeout: generous, because a starved (niced, shared-machine) run stalls for seconds; every
-    # input so far takes under half a second. -rss_limit_mb: the capped inputs never need more.
+    # -timeout: generous, because a starved (niced, shared-machine) run stalls for seconds; the
+    # slowest pipeline input so far (a 12-vertex spike converted to 1,715 vertices, then decimated)
+    # takes 6 s under the sanitizers. -rss_limit_mb: the capped inputs never need more.
     "$dir/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=60 -rss_limit_mb=2048 \
         -max_len=16384 -print_final_stats=1 -artifact_prefix="$dir/artifacts/" \
         "${inputs[@]}" >"$dir/logs/$target.log" 2>&1 || {
