@@ -135,23 +135,54 @@ void HalfedgeMesh::merge(int h) {
     glue(h, t, e);
 }
 
+namespace {
+
+// The corners of the faces around the vertex of corner c, one per step: c, then one way round
+// until the fan closes or meets the boundary, then, on a boundary, the other way from c. Across
+// the side leaving a corner (prev) the next one is at slot prev(twin); across the side entering
+// it (next), at slot next(twin).
+class FanWalk {
+public:
+    FanWalk(const HalfedgeMesh& mesh, int c) : mesh_(mesh), start_(c), slot_(c) {}
+    [[nodiscard]] int slot() const { return slot_; }  ///< -1 once the fan is done
+    void advance() {
+        if (!backward_) {
+            if (const int across = mesh_.twin(HalfedgeMesh::prev(slot_)); across >= 0) {
+                slot_ = HalfedgeMesh::prev(across);
+                if (slot_ == start_) slot_ = -1;  // closed fan
+                return;
+            }
+            backward_ = true;
+            slot_ = start_;
+        }
+        const int across = mesh_.twin(HalfedgeMesh::next(slot_));
+        slot_ = across < 0 ? -1 : HalfedgeMesh::next(across);
+    }
+
+private:
+    const HalfedgeMesh& mesh_;
+    int start_, slot_;
+    bool backward_ = false;
+};
+
+}  // namespace
+
 bool HalfedgeMesh::has_edge_between(int c, int v) const {
-    // Around the vertex of corner c: the face across the side leaving it (prev) holds the vertex
-    // at slot prev(twin); across the side entering it (next), at slot next(twin).
-    auto neighbours_contain = [&](int slot) { return tail(slot) == v || head(slot) == v; };
-    for (int slot = c;;) {
-        if (neighbours_contain(slot)) return true;
-        const int across = twin(prev(slot));
-        if (across < 0) break;
-        slot = prev(across);
-        if (slot == c) return false;  // closed fan
+    for (FanWalk fan(*this, c); fan.slot() >= 0; fan.advance())
+        if (tail(fan.slot()) == v || head(fan.slot()) == v) return true;
+    return false;
+}
+
+bool HalfedgeMesh::has_diagonal(int h) const {
+    const int r = opposite_vertex(h), s = opposite_vertex(twin(h));
+    // Either fan alone answers; in turns, the smaller one ends the walk (a fan's apex can have
+    // tens of thousands of neighbours, and flips ask about it again and again).
+    for (FanWalk at_r(*this, h), at_s(*this, twin(h)); at_r.slot() >= 0 && at_s.slot() >= 0;
+         at_r.advance(), at_s.advance()) {
+        if (tail(at_r.slot()) == s || head(at_r.slot()) == s) return true;
+        if (tail(at_s.slot()) == r || head(at_s.slot()) == r) return true;
     }
-    for (int slot = c;;) {
-        const int across = twin(next(slot));
-        if (across < 0) return false;
-        slot = next(across);
-        if (neighbours_contain(slot)) return true;
-    }
+    return false;
 }
 
 Triangulation HalfedgeMesh::to_triangulation(Eigen::VectorXd length) const {

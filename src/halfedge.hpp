@@ -83,6 +83,9 @@ public:
     /// True if some edge joins the vertex at corner slot c (= 3f + k) to vertex v: the faces
     /// around that corner are walked through their twins, both ways on a boundary.
     [[nodiscard]] bool has_edge_between(int c, int v) const;
+    /// True if the vertices opposite interior halfedge h and its twin are joined by an edge (a
+    /// flip of h's edge would repeat it). Both fans are walked in turns: the smaller one's cost.
+    [[nodiscard]] bool has_diagonal(int h) const;
 
     /// Writes the current faces and a per-edge array into a Triangulation (lengths are the
     /// caller's, indexed by edge id); E(e,·) is ordered so that E(e,0) <= E(e,1). On a self-edge

@@ -69,7 +69,7 @@ TEST(HalfedgeMesh, FlipsKeepAValidOrientedSurface) {
         const int e = static_cast<int>(rng() % mesh.num_edges());
         const int h = mesh.halfedge(e);
         const int r = mesh.opposite_vertex(h), s = mesh.opposite_vertex(mesh.twin(h));
-        if (mesh.has_edge_between(h, s)) continue;  // would duplicate an edge
+        if (mesh.has_diagonal(h)) continue;  // would duplicate an edge
         const int p = mesh.tail(h), q = mesh.head(h);
         mesh.flip(e);
         const int g = mesh.halfedge(e);
@@ -207,7 +207,7 @@ TEST(HalfedgeMesh, RollbackRestoresEveryRecord) {
             const int h = mesh.halfedge(e);
             switch (rng() % 3) {
                 case 0:
-                    if (!mesh.is_boundary_edge(e) && !mesh.has_edge_between(h, mesh.opposite_vertex(mesh.twin(h))))
+                    if (!mesh.is_boundary_edge(e) && !mesh.has_diagonal(h))
                         mesh.flip(e);
                     break;
                 case 1: splits.emplace_back(e, mesh.split(e)); break;
@@ -238,7 +238,12 @@ TEST(HalfedgeMesh, RollbackRestoresEveryRecord) {
 }
 
 TEST(HalfedgeMesh, EdgeQueriesWalkTheWholeFan) {
-    for (const TriangleMesh& m : {make_icosphere(1), make_grid(4, 4)}) {
+    // In the tetrahedron every edge's opposite vertices are joined; in the others none are.
+    TriangleMesh tetrahedron;
+    tetrahedron.V = Eigen::MatrixX3d::Identity(4, 3);
+    tetrahedron.F.resize(4, 3);
+    tetrahedron.F << 0, 1, 2, 0, 3, 1, 1, 3, 2, 0, 2, 3;
+    for (const TriangleMesh& m : {make_icosphere(1), make_grid(4, 4), tetrahedron}) {
         const Triangulation t = Triangulation::from_mesh(m);
         const HalfedgeMesh mesh(t);
         std::vector<std::set<int>> neighbours(m.num_vertices());
@@ -250,6 +255,11 @@ TEST(HalfedgeMesh, EdgeQueriesWalkTheWholeFan) {
             const int v = mesh.corner(c / 3, c % 3);
             for (int w = 0; w < m.num_vertices(); ++w)
                 EXPECT_EQ(mesh.has_edge_between(c, w), neighbours[v].count(w) > 0) << v << " " << w;
+        }
+        for (int h = 0; h < 3 * mesh.num_faces(); ++h) {
+            if (mesh.twin(h) < 0) continue;
+            const int r = mesh.opposite_vertex(h), s = mesh.opposite_vertex(mesh.twin(h));
+            EXPECT_EQ(mesh.has_diagonal(h), neighbours[r].count(s) > 0) << r << " " << s;
         }
     }
 }

@@ -441,7 +441,7 @@ private:
     // orientation.
     bool is_flippable(int e) const {
         const Hinge k = hinge(e);
-        if (k.r == k.s || mesh_.has_edge_between(k.h, k.s)) return false;
+        if (k.r == k.s || mesh_.has_diagonal(k.h)) return false;
         const double l = dist(k.a, k.b), ar = dist(k.a, k.r), br = dist(k.b, k.r), as = dist(k.a, k.s),
                      bs = dist(k.b, k.s);
         const double area_r = 4.0 * triangle_area(l, ar, br), area_s = 4.0 * triangle_area(l, as, bs);
