@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <set>
 #include <string>
 #include <string_view>
 
@@ -328,6 +329,53 @@ TEST(ConvertMethods, NoFlipLeavesANonDelaunayDiagonal) {
             const ConversionResult result = convert(mesh, {.method = method});
             EXPECT_EQ(result.report.status, ConvertStatus::certified) << name << ", " << to_string(method);
         }
+}
+
+// A patch of the skull whose faces, at a coplanar tolerance of 1e-5, join into planes that chain
+// across two folds of 1.16e-5 rad. Faces that flips made inside such a plane leaned on a fold's
+// piece until it looked flat, and it was flipped: the surface moved, and point removal walked
+// around the lost piece's point without end (the whole skull ran out of memory). Every fold must
+// stay covered by output edges, one between each two consecutive points on it.
+TEST(ConvertMethods, FoldsInsideChainedPlanesStayEdges) {
+    const TriangleMesh input = read_mesh(std::string(SDMESH_TEST_DATA_DIR) + "/skull_chained_plane.obj");
+    const double coplanar = 1e-5;
+    const ConversionResult result = convert(input, {.coplanar_tolerance = coplanar});
+    ASSERT_EQ(result.report.status, ConvertStatus::certified);
+    const TriangleMesh& out = result.mesh;
+    const EdgeTable input_edges = build_edge_table(input.F, input.num_vertices());
+    const EdgeTable output_edges = build_edge_table(out.F, out.num_vertices());
+    std::set<std::pair<int, int>> output_edge_set;
+    for (int e = 0; e < output_edges.num_edges(); ++e)
+        output_edge_set.emplace(output_edges.E(e, 0), output_edges.E(e, 1));  // E(e, 0) < E(e, 1)
+    auto normal = [&](int h) {
+        const int f = h / 3;
+        const Eigen::Vector3d a = input.V.row(input.F(f, 0)), b = input.V.row(input.F(f, 1)),
+                              c = input.V.row(input.F(f, 2));
+        return Eigen::Vector3d((b - a).cross(c - a));
+    };
+    const double resolution = 1e-12 * bounding_box_diagonal(input);
+    int chained_folds = 0;
+    for (int e = 0; e < input_edges.num_edges(); ++e) {
+        if (input_edges.edge_halfedges(e, 1) < 0) continue;
+        const Eigen::Vector3d n0 = normal(input_edges.edge_halfedges(e, 0)), n1 = normal(input_edges.edge_halfedges(e, 1));
+        const double dihedral = std::atan2(n0.cross(n1).norm(), n0.dot(n1));
+        if (dihedral <= coplanar) continue;
+        chained_folds += dihedral < 2 * coplanar;
+        const int a = input_edges.E(e, 0), b = input_edges.E(e, 1);
+        const Eigen::Vector3d pa = input.V.row(a), pb = input.V.row(b);
+        std::vector<std::pair<double, int>> on_fold = {{0.0, a}, {1.0, b}};
+        for (int v = input.num_vertices(); v < out.num_vertices(); ++v) {
+            const Eigen::Vector3d x = out.V.row(v);
+            const double t = (x - pa).dot(pb - pa) / (pb - pa).squaredNorm();
+            if (t > 0 && t < 1 && (pa + t * (pb - pa) - x).norm() <= resolution) on_fold.emplace_back(t, v);
+        }
+        std::sort(on_fold.begin(), on_fold.end());
+        for (size_t i = 0; i + 1 < on_fold.size(); ++i) {
+            const auto [u, w] = std::minmax(on_fold[i].second, on_fold[i + 1].second);
+            EXPECT_TRUE(output_edge_set.contains({u, w})) << "fold " << a << "-" << b << ": no edge " << u << "-" << w;
+        }
+    }
+    EXPECT_EQ(chained_folds, 2);
 }
 
 TEST(ConvertMethods, FlipCannotFixTheFlatTetrahedron) {

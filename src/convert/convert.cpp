@@ -6,16 +6,17 @@
 namespace sdmesh::conversion {
 
 void Converter::run(ConversionReport& report) {
-    // Each edge's tests read only its hinge, so they run in parallel; the queue is filled in
-    // edge order. keys: NaN for a locally Delaunay edge, else as for enqueue().
+    // Each edge's tests read only its hinge and, for its key, the flatness of its outer sides
+    // (input_flat_ in a split conversion), so they run in parallel; the queue is filled in edge
+    // order. keys: NaN for a locally Delaunay edge, else as for enqueue().
     const int edges = mesh_.num_edges();
     std::vector<double> keys(static_cast<size_t>(edges));
     needs_point_.assign(static_cast<size_t>(edges), 0);
 #pragma omp parallel for schedule(static)
-    for (int e = 0; e < edges; ++e) {
-        input_flat_[e] = is_flat(e, coplanar_angle_);
+    for (int e = 0; e < edges; ++e) input_flat_[e] = dihedral_within(e, coplanar_angle_);
+#pragma omp parallel for schedule(static)
+    for (int e = 0; e < edges; ++e)
         keys[e] = is_delaunay(e) ? std::numeric_limits<double>::quiet_NaN() : queue_key(e);
-    }
     for (int e = 0; e < edges; ++e) {
         if (std::isnan(keys[e])) continue;
         ++report.input_non_delaunay_edges;
