@@ -1,10 +1,12 @@
 // libFuzzer target: what `sdmesh check`, `repair`, `convert`, `operators`, `decimate`, `eigs`
 // and `poisson` do, on small decoded meshes.
 // The selector byte of fuzz_input.hpp also chooses the conversion method (bits 3-4: split,
-// hybrid, flip, split with a pass of local search) and the boundary policy (bit 5). Meshes are capped and convert gets a vertex budget, so that no single
-// input runs long. Bad meshes may only be refused with InvalidMeshError; results must satisfy
-// the identities every caller relies on, split and hybrid must certify their outputs within the
-// budget, and split's lower bound must hold.
+// hybrid, flip, split with a pass of local search), the boundary policy (bit 5) and, for split,
+// a coarse coplanar tolerance of 1e-5 rad (bit 6), whose planes chain across folds of about as
+// much. Meshes are capped and convert gets a vertex budget, so that no single input runs long.
+// Bad meshes may only be refused with InvalidMeshError; results must satisfy the identities every
+// caller relies on, split and hybrid must certify their outputs within the budget, and split's
+// lower bound must hold.
 
 #include <algorithm>
 #include <cmath>
@@ -150,6 +152,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     options.method = kMethods[(data[0] >> 3) & 3];
     options.local_search = (data[0] >> 3 & 3) == 3 ? 1 : 0;
     options.boundary = (data[0] & 32) != 0 ? sdmesh::BoundaryPolicy::free : sdmesh::BoundaryPolicy::strict;
+    if ((data[0] & 64) != 0 && options.method == sdmesh::ConvertMethod::split) options.coplanar_tolerance = 1e-5;
     options.max_vertices = kVertexBudget;
     options.lower_bound = true;
     try {
