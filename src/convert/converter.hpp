@@ -424,15 +424,16 @@ private:
     }
 
     // Interior edge known to lie inside a plane, or whose face normals differ by at most
-    // `bound` radians. In a split conversion an edge on an input edge is flat exactly when its
-    // input edge is: nothing moves, so the verdict cannot change, but the faces that flips made
-    // in a plane of input faces joined within the tolerance can lean on a fold inside that plane
-    // by up to the plane's whole spread. Judged by them, a piece of the skull's 1.2e-5 rad fold
-    // at a coplanar tolerance of 1e-5 looked flat and was flipped: the surface moved, and point
-    // removal lost the piece and walked around its point without end.
+    // `bound` radians. In a split conversion (whose bound is the coplanar tolerance) an edge on
+    // an input edge is flat exactly when its input edge is: nothing moves, so the verdict cannot
+    // change, but the faces that flips made in a plane of input faces joined within the
+    // tolerance can lean on a fold inside that plane by up to the plane's whole spread. Judged by
+    // them, a piece of the skull's 1.16e-5 rad fold at a coplanar tolerance of 1e-5 looked flat
+    // and was flipped: the surface moved, and point removal lost the piece and walked around its
+    // point without end.
     bool is_flat(int e, const AngleBound& bound) const {
         if (in_plane_[e]) return true;
-        if (!tracks_moves_ && input_edge_[e] >= 0) return input_flat_[input_edge_[e]];
+        if (options_.method == ConvertMethod::split && input_edge_[e] >= 0) return input_flat_[input_edge_[e]];
         return dihedral_within(e, bound);
     }
 
