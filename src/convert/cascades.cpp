@@ -143,10 +143,7 @@ void Converter::split_together(ConversionReport& report) {
         bool left_out = true;  // until it has a partner
     };
     const int edges = mesh_.num_edges();
-    // Nothing is split yet: the split method's flat edges are the input's.
-    const bool flat_as_input = flat_angle_.angle == coplanar_angle_.angle;
-    auto flat = [&](int e) { return flat_as_input ? input_flat_[e] != 0 : is_flat(e, flat_angle_); };
-    auto needs_split = [&](int e) { return queued_[e] && !flat(e); };
+    auto needs_split = [&](int e) { return queued_[e] && !is_flat(e, flat_angle_); };
     std::vector<Edge> group;  // by increasing edge id
     for (int e = 0; e < edges; ++e) {
         if (!needs_split(e)) continue;
@@ -155,7 +152,7 @@ void Converter::split_together(ConversionReport& report) {
         for (const int h : {mesh_.halfedge(e), mesh_.twin(mesh_.halfedge(e))})
             if (h >= 0)
                 for (const int side : {mesh_.edge(HalfedgeMesh::next(h)), mesh_.edge(HalfedgeMesh::prev(h))})
-                    alone = alone && !needs_split(side) && !flat(side);
+                    alone = alone && !needs_split(side) && !is_flat(side, flat_angle_);
         if (!alone || needle_end(input_edge_[e]) >= 0) continue;
         const Hinge k = hinge(e);
         Edge& edge = group.emplace_back();
