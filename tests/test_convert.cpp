@@ -480,6 +480,18 @@ TEST(ConvertMethods, TheScaleOfTheCoordinatesChangesNothing) {
     }
 }
 
+// A coordinate far smaller than the diagonal is subnormal at the converter's unit scale, where it
+// loses bits; the input vertices still come back bit for bit (found by fuzz_pipeline in CI).
+TEST(ConvertMethods, InputVerticesStayBitForBitBesideHugeOnes) {
+    const TriangleMesh tetrahedron = make_mesh({{1.234567e-170, 0, 0}, {1e150, 0, 0}, {0, 1e150, 0}, {0, 0, 1e150}},
+                                               {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}});
+    for (const ConvertMethod method : {ConvertMethod::split, ConvertMethod::hybrid, ConvertMethod::flip}) {
+        const ConversionResult result = convert(tetrahedron, {.method = method});
+        EXPECT_EQ(result.report.status, ConvertStatus::certified) << to_string(method);
+        EXPECT_TRUE(result.mesh.V.topRows(4) == tetrahedron.V) << to_string(method);
+    }
+}
+
 // No split point of the output can go alone: for each, the piece joining its two neighbours on
 // its input edge would see a point of the input faces on its sides under angles summing to more
 // than π (a strict boundary piece: more than π/2). On these meshes no two faces are coplanar, so

@@ -66,9 +66,12 @@ TriangleMesh Converter::result() const {
     int kept = 0;
     for (size_t v = 0; v < P_.size(); ++v)
         if (v < static_cast<size_t>(input_vertices_) || !removed_[v - input_vertices_]) new_id[v] = kept++;
+    // Input vertices are copied: a coordinate far smaller than the diagonal is subnormal at the
+    // unit scale, where it lost bits (1.234567e-170 next to 1e150 came back 1.2347855264902e-170).
     TriangleMesh out;
     out.V.resize(kept, 3);
-    for (size_t v = 0; v < P_.size(); ++v)
+    out.V.topRows(input_vertices_) = input_.V;
+    for (size_t v = input_vertices_; v < P_.size(); ++v)
         if (new_id[v] >= 0)
             for (int i = 0; i < 3; ++i) out.V(new_id[v], i) = std::ldexp(P_[v][i], scale_exponent_);
     out.F = mesh_.faces();
