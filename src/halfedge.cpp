@@ -167,12 +167,6 @@ private:
 
 }  // namespace
 
-bool HalfedgeMesh::has_edge_between(int c, int v) const {
-    for (FanWalk fan(*this, c); fan.slot() >= 0; fan.advance())
-        if (tail(fan.slot()) == v || head(fan.slot()) == v) return true;
-    return false;
-}
-
 bool HalfedgeMesh::has_diagonal(int h) const {
     const int r = opposite_vertex(h), s = opposite_vertex(twin(h));
     // Either fan alone answers; in turns, the smaller one ends the walk (a fan's apex can have

@@ -80,9 +80,6 @@ public:
     /// True for a face that merge() removed.
     [[nodiscard]] bool is_removed_face(int f) const { return face_[f].corner[0] < 0; }
 
-    /// True if some edge joins the vertex at corner slot c (= 3f + k) to vertex v: the faces
-    /// around that corner are walked through their twins, both ways on a boundary.
-    [[nodiscard]] bool has_edge_between(int c, int v) const;
     /// True if the vertices opposite interior halfedge h and its twin are joined by an edge (a
     /// flip of h's edge would repeat it). Both fans are walked in turns: the smaller one's cost.
     [[nodiscard]] bool has_diagonal(int h) const;

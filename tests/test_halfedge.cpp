@@ -70,11 +70,10 @@ TEST(HalfedgeMesh, FlipsKeepAValidOrientedSurface) {
         const int h = mesh.halfedge(e);
         const int r = mesh.opposite_vertex(h), s = mesh.opposite_vertex(mesh.twin(h));
         if (mesh.has_diagonal(h)) continue;  // would duplicate an edge
-        const int p = mesh.tail(h), q = mesh.head(h);
         mesh.flip(e);
         const int g = mesh.halfedge(e);
         EXPECT_EQ(std::minmax(mesh.tail(g), mesh.head(g)), std::minmax(r, s));
-        EXPECT_FALSE(mesh.has_edge_between(g, mesh.opposite_vertex(g) == p ? q : p));
+        EXPECT_FALSE(mesh.has_diagonal(g));  // the old edge is gone
         checked(mesh, sphere.V);
         const MeshInfo info = info_of(mesh, sphere.V);
         ASSERT_TRUE(info.manifold());
@@ -250,11 +249,6 @@ TEST(HalfedgeMesh, EdgeQueriesWalkTheWholeFan) {
         for (int e = 0; e < t.num_edges(); ++e) {
             neighbours[t.E(e, 0)].insert(t.E(e, 1));
             neighbours[t.E(e, 1)].insert(t.E(e, 0));
-        }
-        for (int c = 0; c < 3 * mesh.num_faces(); ++c) {
-            const int v = mesh.corner(c / 3, c % 3);
-            for (int w = 0; w < m.num_vertices(); ++w)
-                EXPECT_EQ(mesh.has_edge_between(c, w), neighbours[v].count(w) > 0) << v << " " << w;
         }
         for (int h = 0; h < 3 * mesh.num_faces(); ++h) {
             if (mesh.twin(h) < 0) continue;
