@@ -12,11 +12,12 @@ HalfedgeMesh::HalfedgeMesh(const Triangulation& t)
     : HalfedgeMesh(t.F, t.face_edge, t.edge_halfedges, t.num_vertices) {}
 
 HalfedgeMesh::HalfedgeMesh(const Eigen::MatrixX3i& F, const Eigen::MatrixX3i& face_edge,
-                           const Eigen::MatrixX2i& edge_halfedges, int num_vertices)
+                           const Eigen::MatrixX2i& edge_halfedges, int num_vertices, int spare_splits)
     : num_vertices_(num_vertices) {
     // Records written whole, in face order, into premapped pages; twins then scattered per edge.
     const auto num_faces = static_cast<size_t>(F.rows());
-    face_.reserve(num_faces);
+    const auto spare = static_cast<size_t>(spare_splits);  // each adds 2 faces and 3 edges
+    face_.reserve(num_faces + 2 * spare);
     // Not on 2 MB pages, though flip loops read the records at random (2 % more flips/s on them):
     // on the VM measured their first mapping in a process took from 15 ms to 1.4 s per 128 MB,
     // and the skull's conversion 4.45–5.57 s against 4.48–4.59 s (experiments/README.md).
@@ -26,7 +27,8 @@ HalfedgeMesh::HalfedgeMesh(const Eigen::MatrixX3i& F, const Eigen::MatrixX3i& fa
                          {F(f, 0), F(f, 1), F(f, 2)},
                          {-1, -1, -1},
                          {face_edge(f, 0), face_edge(f, 1), face_edge(f, 2)}});
-    detail::prefaulted_assign(edge_halfedge_, static_cast<size_t>(edge_halfedges.rows()), 0);
+    detail::prefaulted_assign(edge_halfedge_, static_cast<size_t>(edge_halfedges.rows()), 0,
+                              static_cast<size_t>(edge_halfedges.rows()) + 3 * spare);
     for (int e = 0; e < edge_halfedges.rows(); ++e) {
         const int h0 = edge_halfedges(e, 0), h1 = edge_halfedges(e, 1);
         edge_halfedge_[e] = h0;

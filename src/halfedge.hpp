@@ -18,10 +18,12 @@ public:
     /// and orientation are kept.
     explicit HalfedgeMesh(const Triangulation& t);
 
-    /// The same from the connectivity arrays alone (as in Triangulation or EdgeTable).
+    /// The same from the connectivity arrays alone (as in Triangulation or EdgeTable), with room
+    /// for the faces and edges of `spare_splits` splits of interior edges before the records
+    /// move (moving them copies every record into pages mapped anew).
     /// \pre at most two faces per edge, no face with a repeated index.
     HalfedgeMesh(const Eigen::MatrixX3i& F, const Eigen::MatrixX3i& face_edge,
-                 const Eigen::MatrixX2i& edge_halfedges, int num_vertices);
+                 const Eigen::MatrixX2i& edge_halfedges, int num_vertices, int spare_splits = 0);
 
     [[nodiscard]] int num_vertices() const { return num_vertices_; }
     [[nodiscard]] int num_faces() const { return static_cast<int>(face_.size()); }

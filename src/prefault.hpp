@@ -4,6 +4,7 @@
 // the writes themselves. prefault() maps all pages of a block in one system call instead
 // (MADV_POPULATE_WRITE, Linux >= 5.14). Small blocks, other systems and older kernels: no-op.
 
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -21,10 +22,11 @@ void prefault(Container& c) {
     prefault(static_cast<void*>(c.data()), static_cast<std::size_t>(c.size()) * sizeof(*c.data()));
 }
 
-/// Resizes an empty std::vector to n copies of `value`, its pages mapped first.
+/// Resizes an empty std::vector to n copies of `value`, its pages mapped first, with room for
+/// `capacity` elements (the pages beyond n are mapped only when used).
 template <class T>
-void prefaulted_assign(std::vector<T>& v, std::size_t n, const T& value) {
-    v.reserve(n);
+void prefaulted_assign(std::vector<T>& v, std::size_t n, const T& value, std::size_t capacity = 0) {
+    v.reserve(std::max(n, capacity));
     prefault(static_cast<void*>(v.data()), n * sizeof(T));
     v.assign(n, value);
 }

@@ -10,8 +10,9 @@ void Converter::run(ConversionReport& report) {
     // (input_flat_ in a split conversion), so they run in parallel; the queue is filled in edge
     // order. keys: NaN for a locally Delaunay edge, else as for enqueue().
     const int edges = mesh_.num_edges();
-    std::vector<double> keys(static_cast<size_t>(edges));
-    needs_point_.assign(static_cast<size_t>(edges), 0);
+    std::vector<double> keys;
+    detail::prefaulted_assign(keys, static_cast<size_t>(edges), 0.0);
+    detail::prefaulted_assign(needs_point_, static_cast<size_t>(edges), char{0});
 #pragma omp parallel for schedule(static)
     for (int e = 0; e < edges; ++e) input_flat_[e] = dihedral_within(e, coplanar_angle_);
 #pragma omp parallel for schedule(static)
