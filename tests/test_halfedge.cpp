@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -237,24 +238,47 @@ TEST(HalfedgeMesh, RollbackRestoresEveryRecord) {
 }
 
 TEST(HalfedgeMesh, EdgeQueriesWalkTheWholeFan) {
-    // In the tetrahedron every edge's opposite vertices are joined; in the others none are.
+    // has_diagonal against the neighbours listed from the faces, for every interior halfedge.
+    const auto expect_diagonals_found = [](const HalfedgeMesh& mesh, const std::string& name) {
+        const Eigen::MatrixX3i F = mesh.faces();
+        std::vector<std::set<int>> neighbours(mesh.num_vertices());
+        for (int f = 0; f < F.rows(); ++f)
+            for (int k = 0; k < 3; ++k) {
+                neighbours[F(f, k)].insert(F(f, (k + 1) % 3));
+                neighbours[F(f, (k + 1) % 3)].insert(F(f, k));
+            }
+        int joined = 0;
+        for (int h = 0; h < 3 * mesh.num_faces(); ++h) {
+            if (mesh.twin(h) < 0) continue;
+            const int r = mesh.opposite_vertex(h), s = mesh.opposite_vertex(mesh.twin(h));
+            const bool expected = neighbours[r].count(s) > 0;
+            joined += expected;
+            EXPECT_EQ(mesh.has_diagonal(h), expected) << name << ": " << r << " " << s;
+        }
+        return joined;
+    };
+    // In the tetrahedron every edge's opposite vertices are joined; in the icosphere and the
+    // grid (open fans at its sides) none are.
     TriangleMesh tetrahedron;
     tetrahedron.V = Eigen::MatrixX3d::Identity(4, 3);
     tetrahedron.F.resize(4, 3);
     tetrahedron.F << 0, 1, 2, 0, 3, 1, 1, 3, 2, 0, 2, 3;
-    for (const TriangleMesh& m : {make_icosphere(1), make_grid(4, 4), tetrahedron}) {
-        const Triangulation t = Triangulation::from_mesh(m);
-        const HalfedgeMesh mesh(t);
-        std::vector<std::set<int>> neighbours(m.num_vertices());
-        for (int e = 0; e < t.num_edges(); ++e) {
-            neighbours[t.E(e, 0)].insert(t.E(e, 1));
-            neighbours[t.E(e, 1)].insert(t.E(e, 0));
+    EXPECT_EQ(expect_diagonals_found(HalfedgeMesh(Triangulation::from_mesh(tetrahedron)), "tetrahedron"), 12);
+    EXPECT_EQ(expect_diagonals_found(HalfedgeMesh(Triangulation::from_mesh(make_icosphere(1))), "icosphere"), 0);
+    EXPECT_EQ(expect_diagonals_found(HalfedgeMesh(Triangulation::from_mesh(make_grid(4, 4))), "grid"), 0);
+    // Random flips leave vertices of degree 3 to 12 or so, closed fans on the sphere and open
+    // ones at the cylinder's rims, whose joined neighbours lie anywhere round them (where the
+    // two ways round meet, too).
+    for (const auto& [name, m] : {std::pair{"sphere", make_icosphere(1)}, std::pair{"cylinder", make_cylinder(6, 3)}}) {
+        HalfedgeMesh scrambled(Triangulation::from_mesh(m));
+        std::mt19937 rng(5);
+        int joined = 0;
+        for (int i = 0; i < 400; ++i) {
+            const int e = static_cast<int>(rng() % scrambled.num_edges());
+            if (!scrambled.is_boundary_edge(e) && !scrambled.has_diagonal(scrambled.halfedge(e))) scrambled.flip(e);
+            if (i % 40 == 39) joined += expect_diagonals_found(scrambled, std::string(name) + ", flip " + std::to_string(i));
         }
-        for (int h = 0; h < 3 * mesh.num_faces(); ++h) {
-            if (mesh.twin(h) < 0) continue;
-            const int r = mesh.opposite_vertex(h), s = mesh.opposite_vertex(mesh.twin(h));
-            EXPECT_EQ(mesh.has_diagonal(h), neighbours[r].count(s) > 0) << r << " " << s;
-        }
+        EXPECT_GT(joined, 0) << name;
     }
 }
 
