@@ -19,8 +19,10 @@ std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const Edge
     const int num_faces = static_cast<int>(F.rows());
     const int num_halfedges = 3 * num_faces;
     // The other halfedge of a manifold edge; -1 on boundary and non-manifold edges.
-    std::vector<int> twin(static_cast<size_t>(num_halfedges), -1);
-    std::vector<int> corners(static_cast<size_t>(num_vertices), 0), first(static_cast<size_t>(num_vertices), -1);
+    std::vector<int> twin, corners, first;
+    detail::prefaulted_assign(twin, static_cast<size_t>(num_halfedges), -1);
+    detail::prefaulted_assign(corners, static_cast<size_t>(num_vertices), 0);
+    detail::prefaulted_assign(first, static_cast<size_t>(num_vertices), -1);
 #pragma omp parallel for schedule(static)
     for (int e = 0; e < table.num_edges(); ++e)
         if (table.face_count[e] == 2) {
@@ -29,7 +31,8 @@ std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const Edge
         }
     // The corners' vertices face by face (F is stored column by column): one cache line per face
     // for the walks below.
-    std::vector<int> corner_vertex(static_cast<size_t>(num_halfedges));
+    std::vector<int> corner_vertex;
+    detail::prefaulted_assign(corner_vertex, static_cast<size_t>(num_halfedges), 0);
     for (int k = 0; k < 3; ++k)
         for (int f = 0; f < num_faces; ++f) corner_vertex[3 * f + k] = F(f, k);
     for (int c = 0; c < num_halfedges; ++c) {

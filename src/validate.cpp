@@ -12,6 +12,7 @@
 
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
+#include "prefault.hpp"
 #include "union_find.hpp"
 
 namespace sdmesh {
@@ -35,6 +36,8 @@ std::vector<int> coincident_representatives(const Eigen::MatrixX3d& V,
         int v;
     };
     std::vector<Point> points;
+    points.reserve(static_cast<size_t>(V.rows()));
+    detail::prefault(points.data(), points.capacity() * sizeof(Point));
     for (int v = 0; v < V.rows(); ++v)
         if (mask[v] && V.row(v).allFinite()) points.push_back({{V(v, 0), V(v, 1), V(v, 2)}, v});
     std::sort(points.begin(), points.end(), [](const Point& a, const Point& b) {
@@ -93,7 +96,8 @@ std::vector<char> duplicate_faces(const Eigen::MatrixX3i& F, int num_vertices) {
     std::vector<int> bucket_start(static_cast<size_t>(num_vertices) + 1, 0);
     for (int f = 0; f < num_faces; ++f) ++bucket_start[sorted(f)[0] + 1];
     std::partial_sum(bucket_start.begin(), bucket_start.end(), bucket_start.begin());
-    std::vector<std::pair<std::uint64_t, int>> keys(static_cast<size_t>(num_faces));
+    std::vector<std::pair<std::uint64_t, int>> keys;
+    detail::prefaulted_assign(keys, static_cast<size_t>(num_faces), {});
     std::vector<int> fill(bucket_start.begin(), bucket_start.end() - 1);
     for (int f = 0; f < num_faces; ++f) {
         const auto [a, b, c] = sorted(f);
