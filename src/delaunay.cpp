@@ -153,7 +153,12 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     // power of two that brings the largest coordinate near 1: exact in floating point, so the
     // verdicts are those of the input, while squared lengths of coordinates near the ends of the
     // double range (1e300, 1e-300) neither overflow nor underflow. Dual areas are scaled back.
-    const double largest = mesh.V.size() > 0 ? mesh.V.cwiseAbs().maxCoeff() : 0.0;
+    // Of the vertices that faces use: an unreferenced one far away made every hinge tiny, and
+    // their products underflowed to a "locally Delaunay" verdict.
+    const std::vector<char> referenced = referenced_vertices(mesh);
+    double largest = 0;
+    for (int v = 0; v < num_vertices; ++v)
+        if (referenced[v]) largest = std::max(largest, mesh.V.row(v).cwiseAbs().maxCoeff());
     const int exponent = unit_exponent(largest);
     const double scale = std::ldexp(1.0, -exponent);
     std::vector<Eigen::Vector3d> P(num_vertices);

@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "sdmesh/error.hpp"
 
@@ -25,9 +27,28 @@ void require_finite_positions(const TriangleMesh& mesh) {
                                    " has a coordinate that is not finite");
 }
 
+std::vector<char> referenced_vertices(const TriangleMesh& mesh) {
+    std::vector<char> referenced(static_cast<size_t>(mesh.num_vertices()), 0);
+    for (int k = 0; k < 3; ++k)
+        for (int f = 0; f < mesh.num_faces(); ++f)
+            if (const int v = mesh.F(f, k); v >= 0 && v < mesh.num_vertices()) referenced[v] = 1;
+    return referenced;
+}
+
 double bounding_box_diagonal(const TriangleMesh& mesh) {
+    // Unreferenced vertices are not part of the surface and must not set the scale at which its
+    // lengths are judged: one far away made every face tiny, where products of lengths underflow.
+    std::vector<char> counted = referenced_vertices(mesh);
+    if (mesh.num_faces() == 0) counted.assign(counted.size(), 1);
+    Eigen::RowVector3d low = Eigen::RowVector3d::Constant(HUGE_VAL), high = -low;
+    bool any = false;
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+        if (!counted[v]) continue;
+        if (!mesh.V.row(v).allFinite()) return std::numeric_limits<double>::quiet_NaN();
+        low = low.cwiseMin(mesh.V.row(v)), high = high.cwiseMax(mesh.V.row(v)), any = true;
+    }
     // stableNorm: the squares of extents below 1e-154 or above 1e154 would leave the double range.
-    return mesh.num_vertices() == 0 ? 0.0 : (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).stableNorm();
+    return any ? (high - low).stableNorm() : 0.0;
 }
 
 void require_supported_extent(const TriangleMesh& mesh) {

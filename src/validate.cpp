@@ -18,13 +18,6 @@
 namespace sdmesh {
 namespace {
 
-std::vector<char> referenced_vertices(const TriangleMesh& mesh) {
-    std::vector<char> referenced(mesh.num_vertices(), 0);
-    for (int f = 0; f < mesh.num_faces(); ++f)
-        for (int k = 0; k < 3; ++k) referenced[mesh.F(f, k)] = 1;
-    return referenced;
-}
-
 // representative[v] = the smallest-index vertex among those with exactly v's position, for the
 // vertices in `mask` with finite coordinates; v itself otherwise.
 std::vector<int> coincident_representatives(const Eigen::MatrixX3d& V,

@@ -14,6 +14,7 @@
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
+#include "sdmesh/mesh.hpp"
 #include "sdmesh/shapes.hpp"
 
 namespace sdmesh {
@@ -166,6 +167,29 @@ TriangleMesh bumpy_icosphere(int subdivisions, unsigned seed) {
     TriangleMesh bumpy = make_icosphere(subdivisions);
     for (int v = 0; v < bumpy.num_vertices(); ++v) bumpy.V.row(v) *= 1.0 + noise(rng);
     return bumpy;
+}
+
+TEST(Certificate, AnUnreferencedVertexFarAwayChangesNoVerdict) {
+    // Found by the pipeline fuzzer: a vertex no face used, at 1e150, set the scale, the unit
+    // faces' squared lengths met there near 1e-300 and their products underflowed to "locally
+    // Delaunay"; a non-Delaunay conversion was certified.
+    for (const TriangleMesh& base : {make_grid(6, 5, 1.0, 1.0, 1.7), bumpy_icosphere(3, 7)}) {
+        const DelaunayCertificate reference = certify(base, {.edge_margins = true});
+        ASSERT_GT(reference.non_delaunay_edges, 0);
+        for (const double far : {1e150, 1e300, 1e-300}) {
+            TriangleMesh padded = base;
+            padded.V.conservativeResize(base.num_vertices() + 1, 3);
+            padded.V.row(base.num_vertices()) << far, -far, far;
+            const DelaunayCertificate cert = certify(padded, {.edge_margins = true});
+            EXPECT_EQ(cert.non_delaunay_edges, reference.non_delaunay_edges) << far;
+            EXPECT_EQ(cert.self_delaunay, reference.self_delaunay) << far;
+            EXPECT_EQ(cert.edge_margin, reference.edge_margin) << far;
+        }
+        TriangleMesh padded = base;
+        padded.V.conservativeResize(base.num_vertices() + 1, 3);
+        padded.V.row(base.num_vertices()) << 1e150, 0, 0;
+        EXPECT_EQ(bounding_box_diagonal(padded), bounding_box_diagonal(base));
+    }
 }
 
 // The counts and the least margin come without arctangents; they must agree with the margins.

@@ -1,6 +1,8 @@
 #pragma once
 // The mesh users hold, read and write: vertex positions and triangles, nothing else.
 
+#include <vector>
+
 #include <Eigen/Core>
 
 namespace sdmesh {
@@ -27,7 +29,12 @@ void require_indices_in_range(const TriangleMesh& mesh);
 /// \throws InvalidMeshError naming the first vertex with a NaN or infinite coordinate.
 void require_finite_positions(const TriangleMesh& mesh);
 
-/// The length of the bounding box's diagonal: 0 without vertices, +inf if it overflows.
+/// By vertex: 1 where a face uses it (indices outside [0, |V|) are skipped).
+[[nodiscard]] std::vector<char> referenced_vertices(const TriangleMesh& mesh);
+
+/// The length of the diagonal of the bounding box of the vertices that faces use (of all the
+/// vertices when there are no faces): 0 without any, +inf if it overflows, NaN if one of them is
+/// not finite.
 [[nodiscard]] double bounding_box_diagonal(const TriangleMesh& mesh);
 
 /// The bounding-box diagonals that operators, solvers, conversion and decimation accept: from
