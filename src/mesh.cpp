@@ -51,11 +51,11 @@ double bounding_box_diagonal(const TriangleMesh& mesh) {
     return any ? (high - low).stableNorm() : 0.0;
 }
 
-void require_supported_extent(const TriangleMesh& mesh) {
+double require_supported_extent(const TriangleMesh& mesh) {
     const double diagonal = bounding_box_diagonal(mesh);
     const double largest = std::ldexp(1.0, kMaxExtentExponent), smallest = std::ldexp(1.0, -kMaxExtentExponent);
     // NaN is left for require_finite_positions, which names the vertex.
-    if (std::isnan(diagonal) || (diagonal <= largest && (diagonal == 0 || diagonal >= smallest))) return;
+    if (std::isnan(diagonal) || (diagonal <= largest && (diagonal == 0 || diagonal >= smallest))) return diagonal;
     const bool large = diagonal > largest;
     char message[200];
     std::snprintf(message, sizeof message,

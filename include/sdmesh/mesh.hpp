@@ -42,10 +42,11 @@ void require_finite_positions(const TriangleMesh& mesh);
 /// normal doubles. The Delaunay certificate (sdmesh check) holds at any scale.
 inline constexpr int kMaxExtentExponent = 500;
 
+/// \returns the bounding-box diagonal (bounding_box_diagonal), for callers that need it too.
 /// \throws InvalidMeshError naming the diagonal, when it lies outside the supported range (a
 ///         mesh whose vertices all coincide has diagonal 0 and passes, for the checks of its
 ///         faces; so does a NaN coordinate, for require_finite_positions).
-void require_supported_extent(const TriangleMesh& mesh);
+double require_supported_extent(const TriangleMesh& mesh);
 
 /// The mesh with its coordinates multiplied by 2^exponent, exactly (barring overflow and
 /// underflow): algorithms whose tests multiply several lengths run at the scale of a unit

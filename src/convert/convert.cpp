@@ -268,7 +268,7 @@ ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options
     const auto start = conversion::Clock::now();
     check_options(options);
     require_indices_in_range(mesh);
-    require_supported_extent(mesh);
+    const double diagonal = require_supported_extent(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
     const MeshInfo info = validate(mesh, edges);
     require_oriented_manifold(info, "convert");
@@ -280,7 +280,7 @@ ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options
     // Where flips across folds moved the surface: all the Hausdorff distance needs to sample.
     SurfaceEdit edit;
     {  // the converter's working memory is released before the output is certified
-        conversion::Converter converter(mesh, edges, options);
+        conversion::Converter converter(mesh, edges, diagonal, options);
         converter.run(report);
         result.mesh = converter.result();
         if (options.measure_hausdorff && options.method != ConvertMethod::split) edit = converter.surface_edit();

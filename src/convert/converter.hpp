@@ -143,8 +143,9 @@ private:
 // Lawson-style conversion on a HalfedgeMesh with positions; one instance per convert() call.
 class Converter {
 public:
-    // \pre `edges` is the edge table of the mesh, which is manifold.
-    Converter(const TriangleMesh& mesh, const EdgeTable& edges, const ConvertOptions& options)
+    // \pre `edges` is the edge table of the mesh, which is manifold; `diagonal` is its
+    //      bounding-box diagonal, in the supported range (require_supported_extent).
+    Converter(const TriangleMesh& mesh, const EdgeTable& edges, double diagonal, const ConvertOptions& options)
         : options_(options),
           input_(mesh),
           input_edges_(edges),
@@ -154,7 +155,6 @@ public:
           coplanar_angle_(options.coplanar_tolerance),
           tan_tolerance_(std::tan(options.tolerance)),
           tracks_moves_(options.method != ConvertMethod::split) {
-        const double diagonal = bounding_box_diagonal(mesh);  // in the supported range (convert checks)
         // The work is done at the scale of a unit diagonal, by a power of two (exact both ways):
         // far from it, the products of lengths in the tests overflow or underflow (the bunny
         // scaled by 1e150 took every hinge for flat and split on to its vertex budget), and any

@@ -215,7 +215,7 @@ void check_options(const DecimateOptions& o, long long input_vertices, long long
 DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options) {
     const auto start = Clock::now();
     require_indices_in_range(mesh);
-    require_supported_extent(mesh);
+    const double diagonal = require_supported_extent(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
     const MeshInfo info = validate(mesh, edges);
     require_oriented_manifold(info, "decimate");
@@ -240,8 +240,8 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     SpatialOrder ordered = spatial_order(mesh);
     // Collapses run at the scale of a unit diagonal, by a power of two (exact both ways; only far
     // from it): the quadrics hold fourth powers of lengths, which overflow from coordinates of
-    // about 1e75 on.
-    const int scale_exponent = far_unit_exponent(bounding_box_diagonal(ordered.mesh));
+    // about 1e75 on. The spatial order permutes the vertices, so the diagonal is the input's.
+    const int scale_exponent = far_unit_exponent(diagonal);
     if (scale_exponent != 0) ordered.mesh = scaled_by_power_of_two(ordered.mesh, -scale_exponent);
     // Two halves of the Morton order: two boxes of space.
     const bool halves = options.halves_from_vertices > 0 && input_vertices >= options.halves_from_vertices;
