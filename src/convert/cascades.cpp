@@ -70,9 +70,9 @@ double Converter::fewest_splits_after(int e, const std::vector<double>& position
 }
 
 long long Converter::splits_after(int e, double t, long long at_most) {
-    std::vector<int> flat_waiting = std::move(flat_queue_);
+    auto flat_waiting = std::move(flat_queue_);
     auto physical_waiting = std::move(physical_queue_);
-    flat_queue_.clear();
+    flat_queue_ = {};
     physical_queue_ = {};
     begin_trial();
     ConversionReport trial;
