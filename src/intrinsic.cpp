@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "flip_queue.hpp"
 #include "halfedge.hpp"
 #include "prefault.hpp"
 #include "sdmesh/error.hpp"
@@ -108,11 +109,11 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
     const double tolerance = options.tolerance;
 
     const auto loop_start = std::chrono::steady_clock::now();
-    // Lawson's loop on a stack of candidate edges; `queued` keeps an edge on it at most once.
-    // The initial candidates are the edges facing an obtuse corner: with both opposite angles
-    // <= π/2 an edge is LD, and it can only lose that when a flip changes its hinge, which
-    // pushes it. They are stacked so that they pop in id order; after a flip the four outer
-    // edges of its hinge are pushed and so tested next, while they are still in cache.
+    // Lawson's loop on a FlipQueue of candidate edges; `queued` keeps an edge on it at most
+    // once. The initial candidates are the edges facing an obtuse corner: with both opposite
+    // angles <= π/2 an edge is LD, and it can only lose that when a flip changes its hinge,
+    // which pushes it. They are stacked so that they pop in id order; after a flip the four
+    // outer edges of its hinge are pushed and so tested next, while they are still in cache.
     std::vector<char> queued;
     detail::prefaulted_assign(queued, static_cast<size_t>(ne), char{0});
     // The same pass copies the edge lengths onto the sides of the mesh, so that a hinge test
@@ -125,20 +126,23 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
                 queued[t.face_edge(f, k)] = 1;
         }
     }
-    std::vector<int> stack;
+    detail::FlipQueue queue;
+    const auto length_of = [len](int e) { return len[e]; };
     for (int e = ne - 1; e >= 0; --e)
-        if (queued[e]) stack.push_back(e);
+        if (queued[e]) queue.push(e, length_of);
     auto push = [&](int e) {
-        if (!queued[e]) queued[e] = 1, stack.push_back(e);
+        if (!queued[e]) queued[e] = 1, queue.push(e, length_of);
     };
     long long flips = 0;
+    const long long longest_first_from = detail::kFlipsPerEdgeBeforeLongestFirst * ne;
     bool exhausted = false;
-    while (!stack.empty()) {
-        const int e = stack.back();
-        stack.pop_back();
+    while (!queue.empty()) {
+        if (flips > longest_first_from) queue.longest_first(length_of);
+        const int e = queue.pop();
         queued[e] = 0;
         // A test waits on two random face records; request those of the candidates a few pops
         // down the stack, in two steps since the second face is read from the first.
+        const std::vector<int>& stack = queue.stack();
         const size_t n = stack.size();
         if (n > 2 * kLookahead) mesh.prefetch(mesh.halfedge(stack[n - 1 - 2 * kLookahead]));
         if (n > kLookahead) mesh.prefetch(mesh.twin(mesh.halfedge(stack[n - 1 - kLookahead])));

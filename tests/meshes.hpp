@@ -1,7 +1,9 @@
 #pragma once
 // Small meshes built in code for the tests, beyond the generators of sdmesh/shapes.hpp.
 
+#include <cmath>
 #include <initializer_list>
+#include <numbers>
 
 #include <Eigen/Geometry>
 
@@ -38,6 +40,20 @@ inline TriangleMesh make_negative_dual_fan() {
     return make_mesh({{0, 0, 0}, {0, 0.2, 0}, {-0.3, 0.4, 0}, {-0.8, 0.6, 0}, {-0.3, 0, 0},
                       {-0.1, -0.1, 0}, {0.1, -0.1, 0}},
                      {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}, {0, 5, 6}, {0, 6, 1}});
+}
+
+/// A flat cap triangulated as a fan of n - 2 faces from one rim vertex, as CAD exporters do: the
+/// rim is an unevenly sampled ellipse (on a circle every triangulation would be Delaunay).
+inline TriangleMesh make_flat_fan(int n) {
+    TriangleMesh fan;
+    fan.V.resize(n, 3);
+    for (int k = 0; k < n; ++k) {
+        const double t = 2 * std::numbers::pi * (k + 0.4 * std::sin(7.3 * k)) / n;
+        fan.V.row(k) << 3 * std::cos(t), std::sin(t), 0;
+    }
+    fan.F.resize(n - 2, 3);
+    for (int k = 1; k < n - 1; ++k) fan.F.row(k - 1) << 0, k, k + 1;
+    return fan;
 }
 
 }  // namespace sdmesh::test

@@ -313,6 +313,14 @@ TEST(Intrinsic, CorpusIsPresent) {
 
 // ---- specific cases ---------------------------------------------------------------------------
 
+// See ConvertMethods.AFlatFanTakesLinearlyManyFlips: the same flips, by lengths alone.
+TEST(Intrinsic, AFlatFanTakesLinearlyManyFlips) {
+    constexpr int n = 8000;
+    const IntrinsicResult result = intrinsic_delaunay(Triangulation::from_mesh(test::make_flat_fan(n)));
+    EXPECT_EQ(result.report.status, "delaunay");
+    EXPECT_LE(result.report.flips, 32 * n);  // n²/13 = 615 n
+}
+
 TEST(Intrinsic, SelfDelaunayMeshIsLeftAsItIs) {
     for (const TriangleMesh& mesh : {make_icosphere(1), make_icosphere(3), make_grid(8, 6, 2.0, 1.0)}) {
         ASSERT_TRUE(certify(mesh).self_delaunay);

@@ -114,6 +114,8 @@ SurfaceEdit Converter::surface_edit() const {
 void Converter::drain(ConversionReport& report, long long max_splits) {
     auto last_progress = Clock::now();
     while (true) {
+        if (report.flips > detail::kFlipsPerEdgeBeforeLongestFirst * mesh_.num_edges())
+            flat_queue_.longest_first([this](int f) { return edge_length(f); });
         const int e = pop();
         if (e < 0) break;
         if (mesh_.is_removed_edge(e) || is_delaunay(e)) continue;

@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -28,6 +27,7 @@
 
 #include <Eigen/Geometry>
 
+#include "flip_queue.hpp"
 #include "halfedge.hpp"
 #include "prefault.hpp"
 #include "union_find.hpp"
@@ -715,10 +715,7 @@ private:
     // Splits e at distance `at` from the tail of its halfedge, by default where split_distance says.
     void split(int e, std::optional<double> at = std::nullopt);
 
-    // Flat candidates first (cheap flips), then physical ones; each kind longest first. Taken
-    // last in, first out, the flips inside a plane triangulated as a fan of n long faces (CAD
-    // caps) made about n²/13 flips, and a fan of 8,000 ran into the flip budget; longest first,
-    // n - 3 (Lawson's loop flips each edge once, but a bad order keeps making new fans).
+    // Flat candidates first (cheap flips; see FlipQueue), then physical ones by queue_key.
     // Edges are pushed whenever their hinge changes, so one that is locally Delaunay then can
     // stay out (most are: 80 % of the pushes on the skull).
     void push(int e) {
@@ -734,24 +731,20 @@ private:
     double queue_key(int e) const;
     void enqueue(int e, double key) {
         queued_[e] = 1;
-        if (key < 0) {
-            const int h = mesh_.halfedge(e);
-            flat_queue_.push(flat_queue_entry(static_cast<float>(dist(mesh_.tail(h), mesh_.head(h))), e));
-        } else {
+        if (key < 0)
+            flat_queue_.push(e, [this](int f) { return edge_length(f); });
+        else
             physical_queue_.emplace(key, e);
-        }
     }
-    // A flat edge's place in its queue, in 64 bits: the bits of its length as a float (ordered
-    // as the lengths are, for lengths >= 0), then the edge.
-    static std::uint64_t flat_queue_entry(float length, int e) {
-        return std::uint64_t{std::bit_cast<std::uint32_t>(length)} << 32 | static_cast<std::uint32_t>(e);
+    double edge_length(int e) const {
+        const int h = mesh_.halfedge(e);
+        return dist(mesh_.tail(h), mesh_.head(h));
     }
 
     int pop() {
         int e = -1;
         if (!flat_queue_.empty()) {
-            e = static_cast<int>(flat_queue_.top() & 0xffffffffu);
-            flat_queue_.pop();
+            e = flat_queue_.pop();
         } else if (!physical_queue_.empty()) {
             e = physical_queue_.top().second;
             physical_queue_.pop();
@@ -814,7 +807,7 @@ private:
     std::optional<Trial> trial_;
     std::vector<double> alternatives_;  // split_distance's, for split_across_strips
     long long trial_splits_ = 0;  // made by trials, all taken back
-    std::priority_queue<std::uint64_t> flat_queue_;
+    detail::FlipQueue flat_queue_;
     std::priority_queue<std::pair<double, int>> physical_queue_;
 };
 
