@@ -211,6 +211,8 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
                 }
             }
         }
+        // reach() pairs the points across e, once for each point placed.
+        if (sides == 2 && points[0].size() * points[1].size() > kFewestPointsMaxPairs) return std::nullopt;
         std::sort(forbidden.begin(), forbidden.end());
         // Each face's points unfolded: distance along e from a, and from e's line.
         for (int side = 0; side < sides; ++side) {
