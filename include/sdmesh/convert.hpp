@@ -63,8 +63,9 @@ struct ConvertOptions {
     double coplanar_tolerance = 1e-10;
     BoundaryPolicy boundary = BoundaryPolicy::strict;
     double tolerance = kDelaunayTolerance;  ///< the locally-Delaunay tolerance, radians
-    /// Stop with status budget_exhausted when the mesh reaches this many vertices;
-    /// 0 = 10·|V| + 100000.
+    /// Stop with status budget_exhausted when this many vertices have been made: the input's and
+    /// every split point, also those removed again later (their ids are not reused), so the
+    /// output can hold fewer; 0 = 10·|V| + 100000.
     long long max_vertices = 0;
     /// Stop with status budget_exhausted after this many flips; 0 = 100·|E| + 1000000. Lawson's
     /// flips terminate in exact arithmetic, but on nearly degenerate input (coordinates spanning
