@@ -42,7 +42,7 @@ public:
     bool empty() const { return stack_.empty() && heap_.empty(); }
     std::size_t size() const { return stack_.size() + heap_.size(); }
 
-    bool is_longest_first() const { return longest_first_; }
+    // From now on, longest first (idempotent).
     template <class Length>
     void longest_first(Length&& length) {
         if (longest_first_) return;
