@@ -70,6 +70,15 @@ constexpr long long kTrialWork = 8;
 // Local search places again at most this many split points at once: more (dense fans of
 // needles) cost time that grows with them and rarely pay (16, 32 and unlimited measured alike).
 constexpr size_t kLocalSearchPoints = 16;
+// relocate_points gives up on a point after this many moves, trying this many points for each
+// at this many positions each. Measured with --local-search 1 (vertices added on elk / mushroom
+// / boot, seconds on boot): 24 moves of 6 × 8: 1,255 / 1,263 / 15,951, 4.8 s; 40 of 3 × 8:
+// 1,264 / 1,271 / 15,950, 6.1 s; 40 of 6 × 8: 1,245 / 1,252 / 15,842, 6.7 s (6 × 12 alike, 9 s);
+// 80 of 3 × 8: 1,254 / 1,250 / 15,849, 10.9 s. Without the moves: 1,288 / 1,316 / 16,299, 1.0 s.
+constexpr int kRelocationMoves = 40, kRelocationCandidates = 6, kRelocationPositions = 8;
+// ... and leaves points where the faces around hold more than this many (fans of needles with
+// hundreds of points each: a move's cost grows with the square of them).
+constexpr size_t kRelocationMaxPoints = 64;
 
 // fewest_points_per_edge places points where the cotangent sums of the pieces they touch are
 // at least this, so that rounding does not undo them: far from the origin (the skewed grid
@@ -299,6 +308,15 @@ private:
     // Delaunay. Edges next to coplanar faces, whose planes triangulate together, are left as
     // they are. Returns which input edges got or lost points (empty if none did).
     std::vector<char> fewest_points_per_edge(ConversionReport& report);
+    // Whether the faces of input edge e's faces' edges are all single-face planes (every edge a
+    // fold): then each of e's faces is triangulated alone, and the apex of a piece of e is the
+    // point of the face that sees it widest.
+    bool among_folds(int e) const;
+    // Replaces split points `old_points` (all those of input edge e, at least one) by points at
+    // `positions`, distances from e's first end in increasing order; false if a point could not
+    // be undone.
+    bool place_points_again(int e, const std::vector<int>& old_points, const std::vector<double>& positions,
+                            ConversionReport& report);
 
     // By input face: its plane, the representative of the input faces joined to it across
     // input edges that are flat at the coplanar tolerance (itself when none is).
@@ -372,6 +390,14 @@ private:
     // decides each point before its neighbours exist; here each is decided again after.
     // Returns which input edges got or lost points.
     std::vector<char> local_search(ConversionReport& report);
+    // Local search's second move, for the points among folds (see among_folds): split point x
+    // goes, and while a piece is not locally Delaunay, a point on an edge of its faces moves to
+    // where the angles that stay too wide exceed π least (min-conflicts; a random move where no
+    // move narrows them), for at most kRelocationMoves moves. It runs on the points' positions
+    // alone; the mesh follows when every piece is locally Delaunay again, and the drain checks.
+    // Greedy placement and local_search keep each point where its neighbours left room; this
+    // moves the neighbours. Returns which input edges got or lost points.
+    std::vector<char> relocate_points(ConversionReport& report);
 
     int other_end(int e, int v) const {
         const int h = mesh_.halfedge(e);

@@ -1,9 +1,38 @@
 // After the loop: split points removed again, the fewest points per input edge, local search.
 #include "convert/converter.hpp"
 
+#include <cstdint>
 #include <unordered_map>
 
 namespace sdmesh::conversion {
+namespace {
+
+// SplitMix64: the same numbers on every platform (the standard library's distributions are
+// free to differ), so that relocate_points is deterministic.
+class Random {
+public:
+    explicit Random(std::uint64_t seed) : state_(seed) {}
+    std::uint64_t next() {
+        std::uint64_t z = state_ += 0x9e3779b97f4a7c15ull;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        return z ^ (z >> 31);
+    }
+    double uniform() { return static_cast<double>(next() >> 11) * 0x1p-53; }  // in [0, 1)
+    size_t below(size_t n) { return static_cast<size_t>(next() % n); }
+
+private:
+    std::uint64_t state_;
+};
+
+// Cotangent of the widest angle under which a point of `face` sees u-v (+inf for none).
+double apex_cotangent(const std::vector<Eigen::Vector3d>& face, const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& p : face) smallest = std::min(smallest, cotangent_seen_from(p, u, v));
+    return smallest;
+}
+
+}  // namespace
 
 void Converter::remove_unneeded_points(ConversionReport& report, const std::vector<char>* changed) {
     const int input_faces = static_cast<int>(input_.F.rows()), edges = input_edges_.num_edges();
@@ -101,23 +130,46 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
     }
 }
 
-std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
-    const int edges = input_edges_.num_edges();
+bool Converter::among_folds(int e) const {
     auto all_folds = [&](int f) {
         for (int k = 0; k < 3; ++k)
             if (input_flat_[input_edges_.face_edge(f, k)]) return false;
         return true;
     };
-    // The faces of e's faces' edges must all be single-face planes.
-    auto in_folds = [&](int e) {
-        for (int side = 0; side < 2; ++side)
-            if (const int f = input_face(e, side); f >= 0)
-                for (int k = 0; k < 3; ++k)
-                    for (int g_side = 0; g_side < 2; ++g_side)
-                        if (const int g = input_face(input_edges_.face_edge(f, k), g_side); g >= 0 && !all_folds(g))
-                            return false;
-        return true;
-    };
+    for (int side = 0; side < 2; ++side)
+        if (const int f = input_face(e, side); f >= 0)
+            for (int k = 0; k < 3; ++k)
+                for (int g_side = 0; g_side < 2; ++g_side)
+                    if (const int g = input_face(input_edges_.face_edge(f, k), g_side); g >= 0 && !all_folds(g))
+                        return false;
+    return true;
+}
+
+bool Converter::place_points_again(int e, const std::vector<int>& old_points, const std::vector<double>& positions,
+                                   ConversionReport& report) {
+    int whole = -1;
+    for (const int y : old_points) {
+        whole = undo_split(y, report);
+        if (whole < 0) return false;
+        ++report.removed_points;
+    }
+    // Split the rest of e, from its first end, at each position in turn.
+    int rest = whole, near = input_edges_.E(e, 0);
+    double done = 0;
+    for (const double t : positions) {
+        const Hinge k = hinge(rest);
+        const bool from_near = k.a == near;
+        split(rest, from_near ? t - done : dist(k.a, k.b) - (t - done));
+        ++report.splits;
+        near = static_cast<int>(P_.size()) - 1;
+        rest = pieces_[near - input_vertices_][from_near ? 1 : 0];
+        done = t;
+    }
+    return true;
+}
+
+std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
+    const int edges = input_edges_.num_edges();
     // The edges with two or more points, from the points' edges sorted (no array by edge: on the
     // skull few edges qualify, and 4.8 M counters would be the pass's largest cost).
     std::vector<int> candidates;
@@ -129,7 +181,7 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
     for (size_t i = 0; i < candidates.size();) {
         size_t j = i;
         while (j < candidates.size() && candidates[j] == candidates[i]) ++j;
-        if (const int e = candidates[i]; j - i >= 2 && !input_flat_[e] && in_folds(e)) candidates[kept++] = e;
+        if (const int e = candidates[i]; j - i >= 2 && !input_flat_[e] && among_folds(e)) candidates[kept++] = e;
         i = j;
     }
     candidates.resize(kept);
@@ -152,13 +204,6 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
                 for (const int y : on_edge[g])
                     if (!removed_[y - input_vertices_]) out.push_back(P_[y]);
         }
-    };
-    // Cotangent of the widest angle under which a point of `face` sees u-v (+inf for none).
-    auto apex_cotangent = [](const std::vector<Eigen::Vector3d>& face, const Eigen::Vector3d& u,
-                             const Eigen::Vector3d& v) {
-        double smallest = std::numeric_limits<double>::infinity();
-        for (const Eigen::Vector3d& p : face) smallest = std::min(smallest, cotangent_seen_from(p, u, v));
-        return smallest;
     };
     const bool strict = options_.boundary == BoundaryPolicy::strict;
     std::vector<char> changed(static_cast<size_t>(edges), 0);
@@ -290,30 +335,11 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
             if (mesh_.num_vertices() + static_cast<long long>(positions->size()) > vertex_budget_) continue;
             const ConversionReport before = report;
             begin_trial();
-            int whole = -1;
-            for (const int y : old_points) {
-                whole = undo_split(y, report);
-                if (whole < 0) break;
-                ++report.removed_points;
-            }
-            if (whole >= 0) {
-                // Split the rest of e, from a's end, at each position in turn.
-                int rest = whole, near = input_edges_.E(e, 0);
-                double done = 0;
-                for (const double t : *positions) {
-                    const Hinge k = hinge(rest);
-                    const bool from_near = k.a == near;
-                    split(rest, from_near ? t - done : dist(k.a, k.b) - (t - done));
-                    ++report.splits;
-                    near = static_cast<int>(P_.size()) - 1;
-                    rest = pieces_[near - input_vertices_][from_near ? 1 : 0];
-                    done = t;
-                }
-                // A drain that has to split stops one split beyond as many as it took.
-                drain(report, before.splits + static_cast<long long>(old_points.size()) + 1);
-            }
+            const bool placed_again = place_points_again(e, old_points, *positions, report);
+            // A drain that has to split stops one split beyond as many as it took.
+            if (placed_again) drain(report, before.splits + static_cast<long long>(old_points.size()) + 1);
             const long long added = report.splits - report.removed_points;
-            if (whole >= 0 && report.status == ConvertStatus::certified && report.vertices_inside_faces == 0 &&
+            if (placed_again && report.status == ConvertStatus::certified && report.vertices_inside_faces == 0 &&
                 added <= before.splits - before.removed_points) {
                 const size_t first_new = trial_->points;
                 commit();
@@ -394,6 +420,223 @@ std::vector<char> Converter::local_search(ConversionReport& report) {
             indexed = std::min(indexed, P_.size());
             if (out_of_budget) return changed;  // the next moves would run out too; the mesh is as before
         }
+        const std::vector<char> relocated = relocate_points(report);
+        for (size_t e = 0; e < changed.size(); ++e) changed[e] |= relocated[e];
+    }
+    return changed;
+}
+
+std::vector<char> Converter::relocate_points(ConversionReport& report) {
+    const int edges = input_edges_.num_edges();
+    const bool strict = options_.boundary == BoundaryPolicy::strict;
+    std::vector<char> changed(static_cast<size_t>(edges), 0);
+
+    // By input edge: its split points, and the model's positions of them (distances from its
+    // first end, in increasing order).
+    std::unordered_map<int, std::vector<int>> points_on;
+    std::unordered_map<int, std::vector<double>> at;
+    auto index_points = [&](size_t from) {
+        for (size_t y = from; y < P_.size(); ++y)
+            if (const int g = vertex_input_edge_[y - input_vertices_]; g >= 0 && !removed_[y - input_vertices_])
+                points_on[g].push_back(static_cast<int>(y));
+    };
+    auto read_positions = [&](int g) {
+        std::vector<double>& positions = at[g];
+        positions.clear();
+        for (const int y : points_on[g]) positions.push_back(dist(input_edges_.E(g, 0), y));
+        std::sort(positions.begin(), positions.end());
+    };
+    index_points(static_cast<size_t>(input_vertices_));
+    for (auto& [g, points] : points_on) read_positions(g);
+    auto position = [&](int g, double t) -> Eigen::Vector3d {
+        const Eigen::Vector3d &a = P_[input_edges_.E(g, 0)], &b = P_[input_edges_.E(g, 1)];
+        return a + (t / input_length_[g]) * (b - a);
+    };
+    // The points of input face f off input edge g's line: the corner across g and the points on
+    // f's other edges.
+    std::vector<Eigen::Vector3d> apexes[2];
+    auto gather = [&](int f, int g, std::vector<Eigen::Vector3d>& out) {
+        out.clear();
+        for (int k = 0; k < 3; ++k) {
+            const int side = input_edges_.face_edge(f, k);
+            if (side == g)
+                out.push_back(P_[input_.F(f, k)]);
+            else if (const auto it = at.find(side); it != at.end())
+                for (const double t : it->second) out.push_back(position(side, t));
+        }
+    };
+    auto angle = [](double cotangent) { return std::atan2(1.0, cotangent); };
+    // How far g is from locally Delaunay: the sum over its pieces whose apex cotangents sum
+    // below kPlacementMargin (as fewest_points_per_edge places points; on a strict boundary the
+    // one apex's) of their apex angles beyond π (π/2), at least 1e-12 each; 0 for none.
+    auto excess = [&](int g) {
+        const int f = input_face(g, 0), across = input_face(g, 1);
+        if (across < 0 && !strict) return 0.0;
+        gather(f, g, apexes[0]);
+        if (across >= 0) gather(across, g, apexes[1]);
+        const auto it = at.find(g);
+        const size_t cuts = it == at.end() ? 0 : it->second.size();
+        double total = 0;
+        Eigen::Vector3d u = P_[input_edges_.E(g, 0)];
+        for (size_t i = 0; i <= cuts; ++i) {
+            const Eigen::Vector3d v = i < cuts ? position(g, it->second[i]) : P_[input_edges_.E(g, 1)];
+            const double first = apex_cotangent(apexes[0], u, v);
+            const double second = across >= 0 ? apex_cotangent(apexes[1], u, v) : 0.0;  // π/2
+            if (!(first + second >= kPlacementMargin))
+                total += std::max(1e-12, angle(first) + angle(second) - kPi);
+            u = v;
+        }
+        return total;
+    };
+    // The input edges of g's faces, g among them: those whose excess g's points change.
+    auto around = [&](int g, std::vector<int>& out) {
+        out.assign(1, g);
+        for (int side = 0; side < 2; ++side)
+            if (const int f = input_face(g, side); f >= 0)
+                for (int k = 0; k < 3; ++k)
+                    if (const int h = input_edges_.face_edge(f, k); h != g) out.push_back(h);
+    };
+    // Whether the faces whose edges' excess g's points change hold more than
+    // kRelocationMaxPoints points: each evaluation pairs their points with the pieces.
+    auto crowded = [&](int g) {
+        size_t count = 0;
+        for (int side = 0; side < 2; ++side)
+            if (const int f = input_face(g, side); f >= 0)
+                for (int k = 0; k < 3; ++k)
+                    for (int h_side = 0; h_side < 2; ++h_side)
+                        if (const int h = input_face(input_edges_.face_edge(f, k), h_side); h >= 0)
+                            for (int j = 0; j < 3; ++j)
+                                if (const auto it = at.find(input_edges_.face_edge(h, j)); it != at.end())
+                                    count += it->second.size();
+        return count > kRelocationMaxPoints;
+    };
+    auto total_excess = [&](const std::vector<int>& of) {
+        double total = 0;
+        for (const int g : of) total += excess(g);
+        return total;
+    };
+    auto movable = [&](int g) { return !input_flat_[g] && among_folds(g) && !crowded(g); };
+    std::vector<std::pair<int, std::vector<double>>> before_move;  // the positions an attempt changed
+    std::vector<int> region, violated, nearby, affected, replaced;
+    std::vector<std::pair<int, size_t>> candidates;
+    const int points = static_cast<int>(P_.size());
+    for (int x = input_vertices_; x < points && report.status == ConvertStatus::certified; ++x) {
+        if (removed_[x - input_vertices_]) continue;
+        const int e = vertex_input_edge_[x - input_vertices_];
+        if (e < 0 || !movable(e)) continue;
+        Random random(static_cast<std::uint64_t>(x));
+        before_move.clear();
+        auto move = [&](int g, std::vector<double> positions) {
+            if (std::none_of(before_move.begin(), before_move.end(), [g](const auto& m) { return m.first == g; }))
+                before_move.emplace_back(g, at[g]);
+            std::sort(positions.begin(), positions.end());
+            at[g] = std::move(positions);
+        };
+        std::vector<double> without_x = at[e];
+        const double x_at = dist(input_edges_.E(e, 0), x);
+        without_x.erase(std::min_element(without_x.begin(), without_x.end(), [&](double p, double q) {
+            return std::abs(p - x_at) < std::abs(q - x_at);
+        }));
+        move(e, std::move(without_x));
+        around(e, region);
+        bool repaired = false;
+        for (int step = 0; step <= kRelocationMoves; ++step) {
+            violated.clear();
+            for (const int g : region)
+                if (excess(g) > 0) violated.push_back(g);
+            if (violated.empty()) {
+                repaired = true;
+                break;
+            }
+            if (step == kRelocationMoves) break;
+            // A point on an edge of a broken edge's faces moves, where it narrows the angles most.
+            around(violated[random.below(violated.size())], nearby);
+            candidates.clear();
+            for (const int g : nearby)
+                if (movable(g))
+                    for (size_t i = 0; i < at[g].size(); ++i) candidates.emplace_back(g, i);
+            if (candidates.empty()) break;
+            for (size_t i = 0; i + 1 < candidates.size(); ++i)
+                std::swap(candidates[i], candidates[i + random.below(candidates.size() - i)]);
+            candidates.resize(std::min<size_t>(candidates.size(), kRelocationCandidates));
+            double best_gain = 0;
+            std::optional<std::pair<int, std::vector<double>>> best;
+            for (const auto& [g, i] : candidates) {
+                around(g, affected);
+                const double l = input_length_[g], now = total_excess(affected);
+                const std::vector<double> current = at[g];
+                for (int trial = 0; trial < kRelocationPositions; ++trial) {
+                    // Mostly anywhere on the edge, once near where the point is.
+                    const double t = trial == 0 ? current[i] + (random.uniform() - 0.5) * 0.1 * l : random.uniform() * l;
+                    std::vector<double> positions = current;
+                    positions[i] = t;
+                    std::sort(positions.begin(), positions.end());
+                    // Pieces stay at least kNearEnd of the edge long.
+                    double previous = 0;
+                    bool room = true;
+                    for (const double p : positions) room = room && p - previous >= kNearEnd * l, previous = p;
+                    if (!room || l - previous < kNearEnd * l) continue;
+                    at[g] = positions;
+                    if (const double gain = now - total_excess(affected); gain > best_gain)
+                        best_gain = gain, best.emplace(g, std::move(positions));
+                }
+                at[g] = current;
+            }
+            if (!best) {  // nothing narrows them: a random move, to leave a local minimum
+                const auto [g, i] = candidates[random.below(candidates.size())];
+                const double l = input_length_[g];
+                std::vector<double> positions = at[g];
+                positions[i] = (kNearEnd + random.uniform() * (1 - 2 * kNearEnd)) * l;
+                std::sort(positions.begin(), positions.end());
+                if (std::adjacent_find(positions.begin(), positions.end(), [&](double p, double q) {
+                        return q - p < kNearEnd * l;
+                    }) != positions.end())
+                    continue;
+                best.emplace(g, std::move(positions));
+            }
+            move(best->first, std::move(best->second));
+            around(best->first, nearby);
+            for (const int g : nearby)
+                if (std::find(region.begin(), region.end(), g) == region.end()) region.push_back(g);
+        }
+        auto restore = [&] {
+            for (auto& [g, positions] : before_move) at[g] = std::move(positions);
+        };
+        if (!repaired) {
+            restore();
+            continue;
+        }
+        // The mesh follows; the drain takes it back if a piece still needs a point.
+        const ConversionReport before = report;
+        begin_trial();
+        bool placed = true;
+        replaced.clear();
+        for (const auto& [g, positions] : before_move)
+            if (placed && at[g] != positions) {
+                placed = place_points_again(g, points_on[g], at[g], report);
+                replaced.push_back(g);
+            }
+        // A drain that has to split leaves no saving: it stops at the first split.
+        if (placed) drain(report, report.splits + 1);
+        const long long added = report.splits - report.removed_points;
+        if (placed && report.status == ConvertStatus::certified && report.vertices_inside_faces == 0 &&
+            added < before.splits - before.removed_points) {
+            const size_t first_new = trial_->points;
+            commit();
+            for (const int g : replaced) {
+                changed[g] = 1;
+                points_on[g].clear();
+            }
+            index_points(first_new);
+            for (const int g : replaced) read_positions(g);
+            report.local_search_saved += before.splits - before.removed_points - added;
+            continue;
+        }
+        const bool out_of_budget = report.status == ConvertStatus::budget_exhausted;
+        rollback();
+        report = before;
+        restore();
+        if (out_of_budget) break;  // the next moves would run out too; the mesh is as before
     }
     return changed;
 }
