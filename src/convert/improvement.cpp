@@ -517,6 +517,7 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
     };
     auto movable = [&](int g) { return !input_flat_[g] && among_folds(g) && !crowded(g); };
     std::vector<std::pair<int, std::vector<double>>> before_move;  // the positions an attempt changed
+    std::unordered_map<int, double> known_excess;  // by input edge, since its last change
     std::vector<int> region, violated, nearby, affected, replaced;
     std::vector<std::pair<int, size_t>> candidates;
     const int points = static_cast<int>(P_.size());
@@ -526,11 +527,19 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
         if (e < 0 || !movable(e)) continue;
         Random random(static_cast<std::uint64_t>(x));
         before_move.clear();
+        known_excess.clear();
         auto move = [&](int g, std::vector<double> positions) {
             if (std::none_of(before_move.begin(), before_move.end(), [g](const auto& m) { return m.first == g; }))
                 before_move.emplace_back(g, at[g]);
             std::sort(positions.begin(), positions.end());
             at[g] = std::move(positions);
+            around(g, nearby);
+            for (const int h : nearby) known_excess.erase(h);
+        };
+        auto current_excess = [&](int g) {
+            const auto [it, added] = known_excess.try_emplace(g, 0.0);
+            if (added) it->second = excess(g);
+            return it->second;
         };
         std::vector<double> without_x = at[e];
         const double x_at = dist(input_edges_.E(e, 0), x);
@@ -543,7 +552,7 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
         for (int step = 0; step <= kRelocationMoves; ++step) {
             violated.clear();
             for (const int g : region)
-                if (excess(g) > 0) violated.push_back(g);
+                if (current_excess(g) > 0) violated.push_back(g);
             if (violated.empty()) {
                 repaired = true;
                 break;
@@ -563,7 +572,9 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
             std::optional<std::pair<int, std::vector<double>>> best;
             for (const auto& [g, i] : candidates) {
                 around(g, affected);
-                const double l = input_length_[g], now = total_excess(affected);
+                double now = 0;
+                for (const int h : affected) now += current_excess(h);
+                const double l = input_length_[g];
                 const std::vector<double> current = at[g];
                 for (int trial = 0; trial < kRelocationPositions; ++trial) {
                     // Mostly anywhere on the edge, once near where the point is.
