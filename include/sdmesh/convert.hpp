@@ -79,8 +79,10 @@ struct ConvertOptions {
     int cascade_trials = 4;
     /// split: passes of local search after the conversion. Around each split point, the split
     /// points of its two input faces are placed again with their neighbours known, and the
-    /// result is kept where it has fewer vertices (see experiments/README.md for what it saves
-    /// and costs). 0 = none.
+    /// result is kept where it has fewer vertices; then each split point whose faces around are
+    /// all single-face planes is taken out while the points near it move until every piece is
+    /// locally Delaunay again (deterministic: a fixed pseudo-random sequence per point). See
+    /// experiments/README.md for what it saves and costs. 0 = none.
     int local_search = 0;
     /// split: also compute report.added_vertices_lower_bound (linear in the mesh size).
     bool lower_bound = false;
