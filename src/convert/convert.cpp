@@ -114,8 +114,9 @@ SurfaceEdit Converter::surface_edit() const {
 void Converter::drain(ConversionReport& report, long long max_splits) {
     auto last_progress = Clock::now();
     while (true) {
+        // Edges that point removal took out since they were queued have no ends to measure.
         if (report.flips > detail::kFlipsPerEdgeBeforeLongestFirst * mesh_.num_edges())
-            flat_queue_.longest_first([this](int f) { return edge_length(f); });
+            flat_queue_.longest_first([this](int f) { return mesh_.is_removed_edge(f) ? 0.0 : edge_length(f); });
         const int e = pop();
         if (e < 0) break;
         if (mesh_.is_removed_edge(e) || is_delaunay(e)) continue;
