@@ -434,7 +434,7 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
     // By input edge: its split points, and the model's positions of them (distances from its
     // first end, in increasing order).
     std::unordered_map<int, std::vector<int>> points_on;
-    std::unordered_map<int, std::vector<double>> at;
+    std::vector<std::vector<double>> at(static_cast<size_t>(edges));
     auto index_points = [&](size_t from) {
         for (size_t y = from; y < P_.size(); ++y)
             if (const int g = vertex_input_edge_[y - input_vertices_]; g >= 0 && !removed_[y - input_vertices_])
@@ -454,39 +454,84 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
     };
     // The points of input face f off input edge g's line: the corner across g and the points on
     // f's other edges.
-    std::vector<Eigen::Vector3d> apexes[2];
+    std::vector<Eigen::Vector3d> apexes;
     auto gather = [&](int f, int g, std::vector<Eigen::Vector3d>& out) {
         out.clear();
         for (int k = 0; k < 3; ++k) {
             const int side = input_edges_.face_edge(f, k);
             if (side == g)
                 out.push_back(P_[input_.F(f, k)]);
-            else if (const auto it = at.find(side); it != at.end())
-                for (const double t : it->second) out.push_back(position(side, t));
+            else
+                for (const double t : at[side]) out.push_back(position(side, t));
         }
     };
-    auto angle = [](double cotangent) { return std::atan2(1.0, cotangent); };
-    // How far g is from locally Delaunay: the sum over its pieces whose apex cotangents sum
-    // below kPlacementMargin (as fewest_points_per_edge places points; on a strict boundary the
-    // one apex's) of their apex angles beyond π (π/2), at least 1e-12 each; 0 for none.
-    auto excess = [&](int g) {
-        const int f = input_face(g, 0), across = input_face(g, 1);
-        if (across < 0 && !strict) return 0.0;
-        gather(f, g, apexes[0]);
-        if (across >= 0) gather(across, g, apexes[1]);
-        const auto it = at.find(g);
-        const size_t cuts = it == at.end() ? 0 : it->second.size();
-        double total = 0;
+    // The apex cotangents of g's pieces, along g, among `seen_from` (null: a boundary edge's
+    // missing face, whose apex counts as a right angle).
+    auto piece_cotangents = [&](int g, const std::vector<Eigen::Vector3d>* seen_from, std::vector<double>& out) {
+        out.clear();
+        const std::vector<double>& cuts = at[g];
         Eigen::Vector3d u = P_[input_edges_.E(g, 0)];
-        for (size_t i = 0; i <= cuts; ++i) {
-            const Eigen::Vector3d v = i < cuts ? position(g, it->second[i]) : P_[input_edges_.E(g, 1)];
-            const double first = apex_cotangent(apexes[0], u, v);
-            const double second = across >= 0 ? apex_cotangent(apexes[1], u, v) : 0.0;  // π/2
-            if (!(first + second >= kPlacementMargin))
-                total += std::max(1e-12, angle(first) + angle(second) - kPi);
+        for (size_t i = 0; i <= cuts.size(); ++i) {
+            const Eigen::Vector3d v = i < cuts.size() ? position(g, cuts[i]) : P_[input_edges_.E(g, 1)];
+            out.push_back(seen_from ? apex_cotangent(*seen_from, u, v) : 0.0);
             u = v;
         }
+    };
+    // ... in g's face on `side` (0 or 1).
+    auto cotangents_in = [&](int g, int side, std::vector<double>& out) {
+        const int f = input_face(g, side);
+        if (f >= 0) gather(f, g, apexes);
+        piece_cotangents(g, f >= 0 ? &apexes : nullptr, out);
+    };
+    auto angle = [](double cotangent) { return std::atan2(1.0, cotangent); };
+    // How far g is from locally Delaunay, from its pieces' apex cotangents in either face: the
+    // sum over the pieces whose cotangents sum below kPlacementMargin (as fewest_points_per_edge
+    // places points; on a strict boundary the one apex's) of their apex angles beyond π (π/2),
+    // at least 1e-12 each; 0 for none. A free boundary never counts.
+    auto counts = [&](int g) { return strict || input_face(g, 1) >= 0; };
+    auto excess_of = [&](const std::vector<double>& first, const std::vector<double>& second) {
+        double total = 0;
+        for (size_t i = 0; i < first.size(); ++i)
+            if (!(first[i] + second[i] >= kPlacementMargin))
+                total += std::max(1e-12, angle(first[i]) + angle(second[i]) - kPi);
         return total;
+    };
+    std::vector<double> cotangents[2];
+    auto excess = [&](int g) {
+        if (!counts(g)) return 0.0;
+        for (int side = 0; side < 2; ++side) cotangents_in(g, side, cotangents[side]);
+        return excess_of(cotangents[0], cotangents[1]);
+    };
+    // Whether `count` points on g can make its pieces locally Delaunay against the corners across
+    // g alone. Points on the other sides only widen the apex angles, so with fewer no move of
+    // theirs repairs g. Greedy, each piece as long as its corners allow, which is optimal: a piece
+    // that keeps within a longer one's ends is locally Delaunay if the longer one is.
+    auto can_do_with = [&](int g, size_t count) {
+        const int f = input_face(g, 0), across = input_face(g, 1);
+        if (across < 0 && !strict) return true;
+        auto corner = [&](int face) -> const Eigen::Vector3d& {
+            int k = 0;
+            while (input_edges_.face_edge(face, k) != g) ++k;
+            return P_[input_.F(face, k)];
+        };
+        const Eigen::Vector3d& c = corner(f);
+        auto keeps = [&](double from, double to) {
+            const Eigen::Vector3d u = position(g, from), v = position(g, to);
+            const double second = across >= 0 ? cotangent_seen_from(corner(across), u, v) : 0.0;  // π/2
+            return cotangent_seen_from(c, u, v) + second >= kPlacementMargin;
+        };
+        const double l = input_length_[g];
+        double from = 0;
+        for (size_t piece = 0; piece <= count; ++piece) {
+            if (keeps(from, l)) return true;
+            double reached = from, broken = l;
+            for (int halving = 0; halving < 64; ++halving) {
+                const double middle = 0.5 * (reached + broken);
+                (keeps(from, middle) ? reached : broken) = middle;
+            }
+            from = reached;
+        }
+        return false;
     };
     // The input edges of g's faces, g among them: those whose excess g's points change.
     auto around = [&](int g, std::vector<int>& out) {
@@ -506,25 +551,22 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
                     for (int h_side = 0; h_side < 2; ++h_side)
                         if (const int h = input_face(input_edges_.face_edge(f, k), h_side); h >= 0)
                             for (int j = 0; j < 3; ++j)
-                                if (const auto it = at.find(input_edges_.face_edge(h, j)); it != at.end())
-                                    count += it->second.size();
+                                count += at[input_edges_.face_edge(h, j)].size();
         return count > kRelocationMaxPoints;
-    };
-    auto total_excess = [&](const std::vector<int>& of) {
-        double total = 0;
-        for (const int g : of) total += excess(g);
-        return total;
     };
     auto movable = [&](int g) { return !input_flat_[g] && among_folds(g) && !crowded(g); };
     std::vector<std::pair<int, std::vector<double>>> before_move;  // the positions an attempt changed
     std::unordered_map<int, double> known_excess;  // by input edge, since its last change
     std::vector<int> region, violated, nearby, affected, replaced;
     std::vector<std::pair<int, size_t>> candidates;
+    std::vector<Eigen::Vector3d> apexes_of_g[2];
+    std::vector<std::vector<double>> away;
+    std::vector<int> away_side;
     const int points = static_cast<int>(P_.size());
     for (int x = input_vertices_; x < points && report.status == ConvertStatus::certified; ++x) {
         if (removed_[x - input_vertices_]) continue;
         const int e = vertex_input_edge_[x - input_vertices_];
-        if (e < 0 || !movable(e)) continue;
+        if (e < 0 || !movable(e) || !can_do_with(e, at[e].size() - 1)) continue;
         Random random(static_cast<std::uint64_t>(x));
         before_move.clear();
         known_excess.clear();
@@ -574,6 +616,33 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
                 around(g, affected);
                 double now = 0;
                 for (const int h : affected) now += current_excess(h);
+                // What moving g's points leaves as it is: the apexes of g's pieces, and the apex
+                // cotangents of the other edges' pieces in their faces away from g.
+                for (int side = 0; side < 2; ++side)
+                    if (const int f = input_face(g, side); f >= 0) gather(f, g, apexes_of_g[side]);
+                away.resize(affected.size());
+                away_side.resize(affected.size());
+                for (size_t k = 1; k < affected.size(); ++k) {
+                    const int h = affected[k], f = input_face(h, 0);
+                    away_side[k] = f >= 0 && (f == input_face(g, 0) || f == input_face(g, 1)) ? 1 : 0;
+                    cotangents_in(h, away_side[k], away[k]);
+                }
+                auto excess_after_move = [&] {
+                    double total = 0;
+                    if (counts(g)) {
+                        for (int side = 0; side < 2; ++side)
+                            piece_cotangents(g, input_face(g, side) >= 0 ? &apexes_of_g[side] : nullptr,
+                                             cotangents[side]);
+                        total += excess_of(cotangents[0], cotangents[1]);
+                    }
+                    for (size_t k = 1; k < affected.size(); ++k) {
+                        if (!counts(affected[k])) continue;
+                        const int toward = 1 - away_side[k];
+                        cotangents_in(affected[k], toward, cotangents[toward]);
+                        total += toward == 0 ? excess_of(cotangents[0], away[k]) : excess_of(away[k], cotangents[1]);
+                    }
+                    return total;
+                };
                 const double l = input_length_[g];
                 const std::vector<double> current = at[g];
                 for (int trial = 0; trial < kRelocationPositions; ++trial) {
@@ -588,7 +657,7 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
                     for (const double p : positions) room = room && p - previous >= kNearEnd * l, previous = p;
                     if (!room || l - previous < kNearEnd * l) continue;
                     at[g] = positions;
-                    if (const double gain = now - total_excess(affected); gain > best_gain)
+                    if (const double gain = now - excess_after_move(); gain > best_gain)
                         best_gain = gain, best.emplace(g, std::move(positions));
                 }
                 at[g] = current;
