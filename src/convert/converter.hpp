@@ -75,6 +75,8 @@ constexpr size_t kLocalSearchPoints = 16;
 // / boot, seconds on boot): 24 moves of 6 × 8: 1,255 / 1,263 / 15,951, 4.8 s; 40 of 3 × 8:
 // 1,264 / 1,271 / 15,950, 6.1 s; 40 of 6 × 8: 1,245 / 1,252 / 15,842, 6.7 s (6 × 12 alike, 9 s);
 // 80 of 3 × 8: 1,254 / 1,250 / 15,849, 10.9 s. Without the moves: 1,288 / 1,316 / 16,299, 1.0 s.
+// Since moves are scored on what they change, 40 of 6 × 8 take 3.6 s on boot; 80 of 6 × 8: 1,232 /
+// 1,241 / 15,748 in 6.0 s.
 constexpr int kRelocationMoves = 40, kRelocationCandidates = 6, kRelocationPositions = 8;
 // ... and leaves points where the faces around hold more than this many (fans of needles with
 // hundreds of points each: a move's cost grows with the square of them).
