@@ -612,7 +612,9 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
             candidates.resize(std::min<size_t>(candidates.size(), kRelocationCandidates));
             double best_gain = 0;
             std::optional<std::pair<int, std::vector<double>>> best;
-            for (const auto& [g, i] : candidates) {
+            for (const auto& candidate : candidates) {
+                const int g = candidate.first;  // a plain variable: clang 14 captures no structured binding
+                const size_t i = candidate.second;
                 around(g, affected);
                 double now = 0;
                 for (const int h : affected) now += current_excess(h);
