@@ -97,6 +97,24 @@ TEST_F(Cli, NoHausdorffReportsNullInsteadOfADistance) {
     EXPECT_EQ(skipped.err.find("Hausdorff"), std::string::npos) << skipped.err;
 }
 
+// Local search reports each pass with --progress (and, on long runs, its points once a second),
+// and the output is the same without it.
+TEST_F(Cli, ConvertProgressNamesTheLocalSearchPasses) {
+    const std::string convert = "convert " + kBunny + " ";
+    const CliRun quiet = run_cli(convert + path("quiet.obj") + " --local-search 2");
+    const CliRun loud = run_cli(convert + path("loud.obj") + " --local-search 2 --progress");
+    ASSERT_EQ(quiet.code, 0) << quiet.err;
+    ASSERT_EQ(loud.code, 0) << loud.err;
+    EXPECT_EQ(quiet.err, "");
+    for (const char* line : {"convert: local search, pass 1 of 2, ", "convert: local search, pass 2 of 2, "})
+        EXPECT_NE(loud.err.find(line), std::string::npos) << line << "\n" << loud.err;
+    auto read = [](const std::string& file) {
+        std::ifstream in(file);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    EXPECT_EQ(read(path("loud.obj")), read(path("quiet.obj")));
+}
+
 TEST_F(Cli, EveryCommandPrintsItsOwnHelp) {
     const std::vector<std::string> commands = {"info",      "check",     "repair", "convert",  "decimate", "operators",
                                                "intrinsic", "eigs",      "geodesic", "poisson", "heat"};

@@ -112,7 +112,6 @@ SurfaceEdit Converter::surface_edit() const {
 }
 
 void Converter::drain(ConversionReport& report, long long max_splits) {
-    auto last_progress = Clock::now();
     while (true) {
         // Edges that point removal took out since they were queued have no ends to measure.
         if (report.flips > detail::kFlipsPerEdgeBeforeLongestFirst * mesh_.num_edges())
@@ -138,11 +137,9 @@ void Converter::drain(ConversionReport& report, long long max_splits) {
             if (input_edge_[e] < 0) ++report.vertices_inside_faces;
             split_across_strips(e, report, !trial_);
         }
-        if (options_.progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
-            last_progress = Clock::now();
+        if (!trial_ && progress_due())  // a trial's counts would be taken back
             std::fprintf(stderr, "convert: %lld splits, %lld flips, %zu queued, %d vertices\n", report.splits,
                          report.flips, flat_queue_.size() + physical_queue_.size(), mesh_.num_vertices());
-        }
     }
 }
 

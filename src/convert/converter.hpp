@@ -214,6 +214,13 @@ private:
     // report.splits exceed max_splits.
     void drain(ConversionReport& report, long long max_splits = std::numeric_limits<long long>::max());
 
+    // Whether a line of --progress is due: at most one a second, from whichever phase runs.
+    bool progress_due() {
+        if (!options_.progress || Clock::now() - last_progress_ < std::chrono::seconds(1)) return false;
+        last_progress_ = Clock::now();
+        return true;
+    }
+
     // ConversionReport::added_vertices_lower_bound, from the input (before any split). Every
     // output vertex lies on an input edge, and the apexes of a piece of a physical edge see it
     // under angles no smaller than its input apexes do (more points only widen them). So a
@@ -839,6 +846,7 @@ private:
     std::optional<Trial> trial_;
     std::vector<double> alternatives_;  // split_distance's, for split_across_strips
     long long trial_splits_ = 0;  // made by trials, all taken back
+    Clock::time_point last_progress_ = Clock::now();
     detail::FlipQueue flat_queue_;
     std::priority_queue<std::pair<double, int>> physical_queue_;
 };

@@ -367,7 +367,13 @@ std::vector<char> Converter::local_search(ConversionReport& report) {
     std::vector<char> changed(on_edge.size(), 0);
     for (int pass = 0; pass < options_.local_search; ++pass) {
         const int points = static_cast<int>(P_.size());
+        if (options_.progress)
+            std::fprintf(stderr, "convert: local search, pass %d of %d, %lld vertices added\n", pass + 1,
+                         options_.local_search, report.splits - report.removed_points);
         for (int x = input_vertices_; x < points && report.status == ConvertStatus::certified; ++x) {
+            if (progress_due())
+                std::fprintf(stderr, "convert: local search, %.0f %% of the points tried, %lld vertices saved\n",
+                             100.0 * (x - input_vertices_) / (points - input_vertices_), report.local_search_saved);
             if (x >= static_cast<int>(P_.size()) || removed_[x - input_vertices_]) continue;
             const int e = vertex_input_edge_[x - input_vertices_];
             if (e < 0 || input_flat_[e]) continue;
@@ -564,6 +570,9 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
     std::vector<int> away_side;
     const int points = static_cast<int>(P_.size());
     for (int x = input_vertices_; x < points && report.status == ConvertStatus::certified; ++x) {
+        if (progress_due())
+            std::fprintf(stderr, "convert: local search, %.0f %% of the points moved, %lld vertices saved\n",
+                         100.0 * (x - input_vertices_) / (points - input_vertices_), report.local_search_saved);
         if (removed_[x - input_vertices_]) continue;
         const int e = vertex_input_edge_[x - input_vertices_];
         if (e < 0 || !movable(e) || !can_do_with(e, at[e].size() - 1)) continue;
