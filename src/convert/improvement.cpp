@@ -535,6 +535,7 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
                 const double middle = 0.5 * (reached + broken);
                 (keeps(from, middle) ? reached : broken) = middle;
             }
+            if (!(reached > from)) return false;  // no piece from here keeps: no count of points does
             from = reached;
         }
         return false;
