@@ -23,10 +23,13 @@ void run(benchmark::State& state, const sdmesh::ConvertOptions& options) {
     state.counters["added_vertices"] = static_cast<double>(report.output_vertices - report.input_vertices);
     state.counters["flips"] = static_cast<double>(report.flips);
     state.counters["certified"] = report.status == sdmesh::ConvertStatus::certified;
+    if (options.local_search > 0) state.counters["local_search_saved"] = static_cast<double>(report.local_search_saved);
 }
 
 void BM_ConvertSplitInterval(benchmark::State& state) { run(state, {}); }
 void BM_ConvertSplitShell(benchmark::State& state) { run(state, {.split_rule = sdmesh::SplitRule::shell}); }
+// One pass of local search (opt-in); its cost is the excess over BM_ConvertSplitInterval.
+void BM_ConvertSplitLocalSearch(benchmark::State& state) { run(state, {.local_search = 1}); }
 void BM_ConvertHybrid10NoHausdorff(benchmark::State& state) {
     run(state, {.method = sdmesh::ConvertMethod::hybrid, .max_dihedral_deg = 10, .measure_hausdorff = false});
 }
@@ -35,5 +38,6 @@ void BM_ConvertHybrid10NoHausdorff(benchmark::State& state) {
 
 BENCHMARK(BM_ConvertSplitInterval)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_ConvertSplitShell)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_ConvertSplitLocalSearch)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_ConvertHybrid10NoHausdorff)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK_MAIN();
