@@ -5,6 +5,7 @@
 //   placement.cpp    where a split point goes on its edge (intervals, look-ahead, shells);
 //   cascades.cpp     splits decided together: strip cuts, cascade trials, joint splits;
 //   improvement.cpp  after the loop: point removal, the fewest points per edge, local search;
+//   relocation.cpp   local search's moves of the points among folds (min-conflicts);
 //   lower_bound.cpp  ConversionReport::added_vertices_lower_bound.
 
 #include "sdmesh/convert.hpp"
@@ -113,6 +114,13 @@ inline double cotangent_seen_from(const Eigen::Vector3d& y, const Eigen::Vector3
     const Eigen::Vector3d a = p - y, b = q - y;
     const double sine = a.cross(b).norm();
     return sine > 0 ? a.dot(b) / sine : std::numeric_limits<double>::infinity();
+}
+
+// Cotangent of the widest angle under which a point of `face` sees u-v (+inf for none).
+inline double apex_cotangent(const std::vector<Eigen::Vector3d>& face, const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& p : face) smallest = std::min(smallest, cotangent_seen_from(p, u, v));
+    return smallest;
 }
 
 // Whether both halves of a-b, split at x, are locally Delaunay with apexes y and z (z null: a
