@@ -56,29 +56,32 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
         return a + (t / input_length_[g]) * (b - a);
     };
     // The points of input face f off input edge g's line: the corner across g and the points on
-    // f's other edges.
+    // f's other edges (but `leaving_out`'s).
     std::vector<Eigen::Vector3d> apexes;
-    auto gather = [&](int f, int g, std::vector<Eigen::Vector3d>& out) {
+    auto gather = [&](int f, int g, std::vector<Eigen::Vector3d>& out, int leaving_out = -1) {
         out.clear();
         for (int k = 0; k < 3; ++k) {
             const int side = input_edges_.face_edge(f, k);
             if (side == g)
                 out.push_back(P_[input_.F(f, k)]);
-            else
+            else if (side != leaving_out)
                 for (const double t : at[side]) out.push_back(position(side, t));
         }
     };
+    // The ends of g's pieces, along g.
+    auto piece_ends = [&](int g, std::vector<Eigen::Vector3d>& out) {
+        out.assign(1, P_[input_edges_.E(g, 0)]);
+        for (const double t : at[g]) out.push_back(position(g, t));
+        out.push_back(P_[input_edges_.E(g, 1)]);
+    };
     // The apex cotangents of g's pieces, along g, among `seen_from` (null: a boundary edge's
     // missing face, whose apex counts as a right angle).
+    std::vector<Eigen::Vector3d> ends;
     auto piece_cotangents = [&](int g, const std::vector<Eigen::Vector3d>* seen_from, std::vector<double>& out) {
+        piece_ends(g, ends);
         out.clear();
-        const std::vector<double>& cuts = at[g];
-        Eigen::Vector3d u = P_[input_edges_.E(g, 0)];
-        for (size_t i = 0; i <= cuts.size(); ++i) {
-            const Eigen::Vector3d v = i < cuts.size() ? position(g, cuts[i]) : P_[input_edges_.E(g, 1)];
-            out.push_back(seen_from ? apex_cotangent(*seen_from, u, v) : 0.0);
-            u = v;
-        }
+        for (size_t i = 0; i + 1 < ends.size(); ++i)
+            out.push_back(seen_from ? apex_cotangent(*seen_from, ends[i], ends[i + 1]) : 0.0);
     };
     // ... in g's face on `side` (0 or 1).
     auto cotangents_in = [&](int g, int side, std::vector<double>& out) {
@@ -164,7 +167,9 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
     std::vector<int> region, violated, nearby, affected, replaced;
     std::vector<std::pair<int, size_t>> candidates;
     std::vector<Eigen::Vector3d> apexes_of_g[2];
-    std::vector<std::vector<double>> away;
+    std::vector<std::vector<double>> away, toward_g;
+    std::vector<std::vector<Eigen::Vector3d>> ends_of;
+    std::vector<Eigen::Vector3d> points_of_g;
     std::vector<int> away_side;
     const int points = static_cast<int>(P_.size());
     for (int x = input_vertices_; x < points && report.status == ConvertStatus::certified; ++x) {
@@ -225,16 +230,22 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
                 around(g, affected);
                 double now = 0;
                 for (const int h : affected) now += current_excess(h);
-                // What moving g's points leaves as it is: the apexes of g's pieces, and the apex
-                // cotangents of the other edges' pieces in their faces away from g.
+                // What moving g's points leaves as it is: the apexes of g's pieces; the other
+                // edges' pieces, their apex cotangents in their faces away from g, and those in
+                // their faces toward g among the points off g.
                 for (int side = 0; side < 2; ++side)
                     if (const int f = input_face(g, side); f >= 0) gather(f, g, apexes_of_g[side]);
                 away.resize(affected.size());
+                toward_g.resize(affected.size());
+                ends_of.resize(affected.size());
                 away_side.resize(affected.size());
                 for (size_t k = 1; k < affected.size(); ++k) {
                     const int h = affected[k], f = input_face(h, 0);
                     away_side[k] = f >= 0 && (f == input_face(g, 0) || f == input_face(g, 1)) ? 1 : 0;
                     cotangents_in(h, away_side[k], away[k]);
+                    gather(input_face(h, 1 - away_side[k]), h, apexes, g);
+                    piece_cotangents(h, &apexes, toward_g[k]);
+                    piece_ends(h, ends_of[k]);
                 }
                 auto excess_after_move = [&] {
                     double total = 0;
@@ -244,11 +255,17 @@ std::vector<char> Converter::relocate_points(ConversionReport& report) {
                                              cotangents[side]);
                         total += excess_of(cotangents[0], cotangents[1]);
                     }
+                    points_of_g.clear();
+                    for (const double t : at[g]) points_of_g.push_back(position(g, t));
                     for (size_t k = 1; k < affected.size(); ++k) {
                         if (!counts(affected[k])) continue;
                         const int toward = 1 - away_side[k];
-                        cotangents_in(affected[k], toward, cotangents[toward]);
-                        total += toward == 0 ? excess_of(cotangents[0], away[k]) : excess_of(away[k], cotangents[1]);
+                        std::vector<double>& seen = cotangents[toward];
+                        seen = toward_g[k];
+                        for (size_t piece = 0; piece < seen.size(); ++piece)
+                            seen[piece] = std::min(seen[piece], apex_cotangent(points_of_g, ends_of[k][piece],
+                                                                               ends_of[k][piece + 1]));
+                        total += toward == 0 ? excess_of(seen, away[k]) : excess_of(away[k], seen);
                     }
                     return total;
                 };
