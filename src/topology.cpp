@@ -17,44 +17,44 @@ namespace {
 std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const EdgeTable& table,
                                            const std::vector<char>& valid_face, int num_vertices) {
     const int num_faces = static_cast<int>(F.rows());
-    const int num_halfedges = 3 * num_faces;
-    // The other halfedge of a manifold edge; -1 on boundary and non-manifold edges.
-    std::vector<int> twin, corners, first;
-    detail::prefaulted_assign(twin, static_cast<size_t>(num_halfedges), -1);
+    // A walk step reads one face: the vertex of each corner, and across each side (the side
+    // opposite corner k is halfedge 3f + k) the other halfedge of a manifold edge, else -1.
+    struct FaceRecord {
+        int vertex[3];
+        int twin[3];
+    };
+    const std::unique_ptr<FaceRecord[]> face(new FaceRecord[static_cast<size_t>(num_faces)]);  // all written below
+    detail::prefault(face.get(), sizeof(FaceRecord) * static_cast<size_t>(num_faces));
+#pragma omp parallel for schedule(static)
+    for (int f = 0; f < num_faces; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const int e = table.face_edge(f, k), h = 3 * f + k;
+            face[f].vertex[k] = F(f, k);
+            face[f].twin[k] = e < 0 || table.face_count[e] != 2 ? -1
+                              : table.edge_halfedges(e, 0) == h ? table.edge_halfedges(e, 1)
+                                                                : table.edge_halfedges(e, 0);
+        }
+    std::vector<int> corners, first;
     detail::prefaulted_assign(corners, static_cast<size_t>(num_vertices), 0);
     detail::prefaulted_assign(first, static_cast<size_t>(num_vertices), -1);
-#pragma omp parallel for schedule(static)
-    for (int e = 0; e < table.num_edges(); ++e)
-        if (table.face_count[e] == 2) {
-            twin[table.edge_halfedges(e, 0)] = table.edge_halfedges(e, 1);
-            twin[table.edge_halfedges(e, 1)] = table.edge_halfedges(e, 0);
+    for (int f = 0; f < num_faces; ++f) {
+        if (!valid_face[f]) continue;
+        for (int k = 0; k < 3; ++k) {
+            const int v = face[f].vertex[k];
+            ++corners[v];
+            if (first[v] < 0) first[v] = 3 * f + k;
         }
-    // The corners' vertices face by face (F is stored column by column): one cache line per face
-    // for the walks below.
-    std::vector<int> corner_vertex;
-    detail::prefaulted_assign(corner_vertex, static_cast<size_t>(num_halfedges), 0);
-    for (int k = 0; k < 3; ++k)
-        for (int f = 0; f < num_faces; ++f) corner_vertex[3 * f + k] = F(f, k);
-    for (int c = 0; c < num_halfedges; ++c) {
-        if (!valid_face[c / 3]) continue;
-        const int v = corner_vertex[c];
-        ++corners[v];
-        if (first[v] < 0) first[v] = c;
     }
     // Corner c = 3f + k touches the two sides next(c) and prev(c) of its face. The walk crosses a
     // side to the twin's face, finds the vertex's corner there and leaves by that face's other
     // side at the vertex; this does not assume a consistent orientation.
     auto next = [](int c) { return c - c % 3 + (c % 3 + 1) % 3; };
     auto prev = [](int c) { return c - c % 3 + (c % 3 + 2) % 3; };
-    auto corner_in_face = [&corner_vertex](int h, int v) {
-        const int base = h - h % 3;
-        return corner_vertex[base] == v ? base : corner_vertex[base + 1] == v ? base + 1 : base + 2;
-    };
     // A walk waits on memory at every step (the faces around a vertex lie anywhere), so each
-    // thread runs kLanes walks side by side, a step of each in turn: their reads are independent
-    // and overlap.
+    // thread runs kLanes walks side by side, a step of each in turn, and each lane asks for the
+    // face it steps into a round before it reads it: the reads overlap.
     struct Walk {
-        int v = -1, start = 0, side = 0, seen = 0;
+        int v = -1, start = 0, across = -1, seen = 0;
         bool backwards = false;  // second leg: from next(start) instead of prev(start)
     };
     constexpr int kLanes = 8, kChunk = 4096;
@@ -64,11 +64,17 @@ std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const Edge
     for (int chunk = 0; chunk < num_chunks; ++chunk) {
         int pending = chunk * kChunk;
         const int end = std::min(pending + kChunk, num_vertices);
+        // The side's own face is in cache: its twin is read now, the face across fetched.
+        const auto cross = [&](Walk& w, int side) {
+            w.across = face[side / 3].twin[side % 3];
+            if (w.across >= 0) __builtin_prefetch(&face[w.across / 3]);
+        };
         const auto begin_walk = [&](Walk& w) {
             while (pending < end && corners[pending] == 0) ++pending;
             w.v = pending < end ? pending++ : -1;
             if (w.v < 0) return;
-            w.start = first[w.v], w.side = prev(w.start), w.seen = 1, w.backwards = false;
+            w.start = first[w.v], w.seen = 1, w.backwards = false;
+            cross(w, prev(w.start));
         };
         const auto finish = [&](Walk& w) {
             bad[w.v] = w.seen != corners[w.v];
@@ -76,7 +82,8 @@ std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const Edge
         };
         const auto end_leg = [&](Walk& w) {
             if (w.backwards) return finish(w);
-            w.backwards = true, w.side = next(w.start);
+            w.backwards = true;
+            cross(w, next(w.start));
         };
         Walk lanes[kLanes];
         for (Walk& w : lanes) begin_walk(w);
@@ -85,17 +92,19 @@ std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const Edge
             for (Walk& w : lanes) {
                 if (w.v < 0) continue;
                 walking = true;
-                const int across = twin[w.side];
+                const int across = w.across;
                 if (w.seen > corners[w.v] || across < 0) {
                     end_leg(w);
                     continue;
                 }
-                const int c = corner_in_face(across, w.v);
+                const FaceRecord& r = face[across / 3];
+                const int c = across - across % 3 + (r.vertex[0] == w.v ? 0 : r.vertex[1] == w.v ? 1 : 2);
                 if (c == w.start) {  // back at the start: a closed fan
                     finish(w);
                     continue;
                 }
-                ++w.seen, w.side = prev(c) == across ? next(c) : prev(c);
+                ++w.seen;
+                cross(w, prev(c) == across ? next(c) : prev(c));
             }
         }
     }
