@@ -305,7 +305,7 @@ MeshInfo validate(const TriangleMesh& mesh) {
     return validate(mesh, build_edge_table(mesh.F, mesh.num_vertices()));
 }
 
-MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges) {
+MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges, ValidateScope scope) {
     require_indices_in_range(mesh);
     const auto& V = mesh.V;
     const auto& F = mesh.F;
@@ -323,8 +323,11 @@ MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges) {
         }
     }
     info.unreferenced_vertices = num_vertices - info.vertices;
-    const std::vector<int> representative = coincident_representatives(V, referenced);
-    for (int v = 0; v < num_vertices; ++v) info.duplicate_vertex_positions += representative[v] != v;
+    const bool everything = scope == ValidateScope::everything;
+    if (everything) {
+        const std::vector<int> representative = coincident_representatives(V, referenced);
+        for (int v = 0; v < num_vertices; ++v) info.duplicate_vertex_positions += representative[v] != v;
+    }
 
     // Faces are independent: counted in parallel, the first of each kind by the smallest index.
     int repeated = 0, zero_area = 0, first_repeated = info.faces, first_zero_area = info.faces;
@@ -346,8 +349,10 @@ MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges) {
     if (repeated > 0) info.first_repeated_index_face = first_repeated;
     if (zero_area > 0) info.first_zero_area_face = first_zero_area;
     info.degenerate_faces = info.repeated_index_faces + info.zero_area_faces;
-    const std::vector<char> duplicate = duplicate_faces(F, num_vertices);
-    info.duplicate_faces = static_cast<int>(std::count(duplicate.begin(), duplicate.end(), 1));
+    if (everything) {
+        const std::vector<char> duplicate = duplicate_faces(F, num_vertices);
+        info.duplicate_faces = static_cast<int>(std::count(duplicate.begin(), duplicate.end(), 1));
+    }
 
     int boundary = 0, interior = 0, conflicts = 0, nonmanifold = 0, first_nonmanifold = info.edges;
 #pragma omp parallel for schedule(static) reduction(+ : boundary, interior, conflicts, nonmanifold) reduction(min : first_nonmanifold)
@@ -366,31 +371,33 @@ MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges) {
     info.boundary_edges = boundary, info.interior_edges = interior;
     info.orientation_conflicts = conflicts, info.nonmanifold_edges = nonmanifold;
     if (nonmanifold > 0) info.first_nonmanifold_edge = edges.E.row(first_nonmanifold).transpose();
-    UnionFind boundary_graph(num_vertices);
-    std::vector<char> on_boundary(num_vertices, 0);
-    if (boundary > 0)
-        for (int e = 0; e < info.edges; ++e)
-            if (edges.face_count[e] == 1) {
-                boundary_graph.unite(edges.E(e, 0), edges.E(e, 1));
-                on_boundary[edges.E(e, 0)] = on_boundary[edges.E(e, 1)] = 1;
-            }
     info.nonmanifold_vertices = static_cast<int>(edges.nonmanifold_vertices.size());
     if (info.nonmanifold_vertices > 0) info.first_nonmanifold_vertex = edges.nonmanifold_vertices.front();
 
-    UnionFind connectivity(num_vertices);
-    for (int f = 0; f < info.faces; ++f) {
-        connectivity.unite(F(f, 0), F(f, 1));
-        connectivity.unite(F(f, 0), F(f, 2));
-    }
-    for (int v = 0; v < num_vertices; ++v) {
-        if (referenced[v] && connectivity.find(v) == v) ++info.components;
-        if (on_boundary[v] && boundary_graph.find(v) == v) ++info.boundary_loops;
+    if (everything) {
+        UnionFind boundary_graph(num_vertices);
+        std::vector<char> on_boundary(num_vertices, 0);
+        if (boundary > 0)
+            for (int e = 0; e < info.edges; ++e)
+                if (edges.face_count[e] == 1) {
+                    boundary_graph.unite(edges.E(e, 0), edges.E(e, 1));
+                    on_boundary[edges.E(e, 0)] = on_boundary[edges.E(e, 1)] = 1;
+                }
+        UnionFind connectivity(num_vertices);
+        for (int f = 0; f < info.faces; ++f) {
+            connectivity.unite(F(f, 0), F(f, 1));
+            connectivity.unite(F(f, 0), F(f, 2));
+        }
+        for (int v = 0; v < num_vertices; ++v) {
+            if (referenced[v] && connectivity.find(v) == v) ++info.components;
+            if (on_boundary[v] && boundary_graph.find(v) == v) ++info.boundary_loops;
+        }
     }
 
     // Without conflicts the faces are oriented consistently already.
     info.orientable = info.orientation_conflicts == 0 || orient_faces(F, edges).non_orientable_components == 0;
     info.euler_characteristic = info.vertices - info.edges + info.faces;
-    if (info.manifold() && info.orientable)
+    if (everything && info.manifold() && info.orientable)
         info.genus = (2 * info.components - info.boundary_loops - info.euler_characteristic) / 2;
     return info;
 }

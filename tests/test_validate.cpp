@@ -158,6 +158,36 @@ TEST(Validate, DefectsAreCounted) {
     EXPECT_THROW(require_manifold(info, "test"), InvalidMeshError);
 }
 
+// convert and decimate count the defects alone: the same defects and first offenders as the
+// whole analysis, the statistics they skip left unset.
+TEST(Validate, TheDefectsScopeFindsTheSameDefects) {
+    const TriangleMesh defective = make_mesh(
+        {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 0}, {2, 2, 0}, {std::nan(""), 0, 0}, {0.5, 0.5, 0}},
+        {{0, 1, 2}, {1, 3, 2}, {2, 1, 0}, {4, 1, 1}, {0, 3, 7}});
+    const TriangleMesh bowtie = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}},
+                                          {{0, 1, 2}, {0, 3, 4}});
+    TriangleMesh misoriented = make_icosphere(1);
+    misoriented.F.row(5) = misoriented.F.row(5).reverse().eval();
+    for (const TriangleMesh* mesh : std::initializer_list<const TriangleMesh*>{&defective, &bowtie, &misoriented}) {
+        const EdgeTable edges = build_edge_table(mesh->F, mesh->num_vertices());
+        const MeshInfo all = validate(*mesh, edges), defects = validate(*mesh, edges, ValidateScope::defects);
+        EXPECT_EQ(first_defect(defects), first_defect(all));
+        EXPECT_EQ(defects.non_finite_vertices, all.non_finite_vertices);
+        EXPECT_EQ(defects.repeated_index_faces, all.repeated_index_faces);
+        EXPECT_EQ(defects.zero_area_faces, all.zero_area_faces);
+        EXPECT_EQ(defects.first_zero_area_face, all.first_zero_area_face);
+        EXPECT_EQ(defects.nonmanifold_edges, all.nonmanifold_edges);
+        EXPECT_EQ(defects.nonmanifold_vertices, all.nonmanifold_vertices);
+        EXPECT_EQ(defects.orientation_conflicts, all.orientation_conflicts);
+        EXPECT_EQ(defects.orientable, all.orientable);
+        EXPECT_EQ(defects.duplicate_faces, 0);
+        EXPECT_EQ(defects.duplicate_vertex_positions, 0);
+        EXPECT_EQ(defects.components, 0);
+        EXPECT_EQ(defects.genus, -1);
+    }
+    EXPECT_GT(validate(misoriented).orientation_conflicts, 0);
+}
+
 TEST(Validate, IndexOutOfRangeThrows) {
     TriangleMesh mesh = make_icosphere(0);
     mesh.F(0, 0) = -1;

@@ -47,12 +47,18 @@ struct MeshInfo {
     }
 };
 
+/// How much validate() counts: everything, or the defects alone — what first_defect() and
+/// require_oriented_manifold() read. Then duplicate_faces, duplicate_vertex_positions,
+/// components and boundary_loops stay 0 and genus -1: they sort or walk the whole mesh, and
+/// the mesh-editing algorithms, which check their input, do not need them.
+enum class ValidateScope { everything, defects };
+
 /// Analyses a mesh in O(|V| + |F| log |F|).
 /// \throws InvalidMeshError a face index is out of range (nothing else can be analysed then).
 MeshInfo validate(const TriangleMesh& mesh);
 
 /// The same on an edge table already built for this mesh.
-MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges);
+MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges, ValidateScope scope = ValidateScope::everything);
 
 /// One sentence naming the first thing that keeps the mesh from being a manifold with finite
 /// coordinates ("edge (3, 7) has more than two faces (12 such edges)"); empty when there is none.

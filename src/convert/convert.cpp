@@ -270,7 +270,7 @@ ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options
     require_indices_in_range(mesh);
     const double diagonal = require_supported_extent(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
-    const MeshInfo info = validate(mesh, edges);
+    const MeshInfo info = validate(mesh, edges, ValidateScope::defects);
     require_oriented_manifold(info, "convert");
 
     ConversionResult result;

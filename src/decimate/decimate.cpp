@@ -217,7 +217,7 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     require_indices_in_range(mesh);
     const double diagonal = require_supported_extent(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
-    const MeshInfo info = validate(mesh, edges);
+    const MeshInfo info = validate(mesh, edges, ValidateScope::defects);
     require_oriented_manifold(info, "decimate");
     const CertifyOptions certify_options{.boundary = options.boundary, .tolerance = options.tolerance};
     const long long input_vertices = info.vertices;
