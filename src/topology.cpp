@@ -64,7 +64,8 @@ std::vector<int> find_nonmanifold_vertices(const Eigen::MatrixX3i& F, const Edge
     for (int chunk = 0; chunk < num_chunks; ++chunk) {
         int pending = chunk * kChunk;
         const int end = std::min(pending + kChunk, num_vertices);
-        // The side's own face is in cache: its twin is read now, the face across fetched.
+        // Crossing `side`: its twin comes from its own face (just read, after a step), and the
+        // face across is fetched for the next round.
         const auto cross = [&](Walk& w, int side) {
             w.across = face[side / 3].twin[side % 3];
             if (w.across >= 0) __builtin_prefetch(&face[w.across / 3]);
