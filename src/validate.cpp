@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
 #include "prefault.hpp"
@@ -162,12 +164,19 @@ Orientation orient_faces(const Eigen::MatrixX3i& F, const EdgeTable& edges) {
 }
 
 // Whether face f (with three distinct indices) has zero area: at most 1e-12 of its longest side
-// squared. Returns its side lengths, side k opposite corner k, in `sides`.
+// squared. The area is the cross product of two sides scaled by the longest (no overflow at
+// 1e150). From the side lengths, a cap 8e8 long whose apex lay 1e-9 of that off the long side
+// came out as exactly 0 (its short sides summed to the long one in rounding), and repair flipped
+// it, moving the surface. Returns its side lengths, side k opposite corner k, in `sides`.
 bool has_zero_area(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int f, double (&sides)[3]) {
-    for (int k = 0; k < 3; ++k)
-        sides[k] = distance(V.row(F(f, (k + 1) % 3)).transpose(), V.row(F(f, (k + 2) % 3)).transpose());
+    Eigen::Vector3d p[3];
+    for (int k = 0; k < 3; ++k) p[k] = V.row(F(f, k)).transpose();
+    for (int k = 0; k < 3; ++k) sides[k] = distance(p[(k + 1) % 3], p[(k + 2) % 3]);
     const double longest = std::max({sides[0], sides[1], sides[2]});
-    return std::isfinite(longest) && triangle_area(sides[0], sides[1], sides[2]) <= 1e-12 * longest * longest;
+    if (!std::isfinite(longest)) return false;
+    if (longest == 0) return true;
+    const Eigen::Vector3d u = (p[1] - p[0]) / longest, v = (p[2] - p[0]) / longest;
+    return 0.5 * u.cross(v).norm() <= 1e-12;
 }
 
 // The edge u-v of the table, -1 if there is none (the rows are sorted; a plain bisection, since

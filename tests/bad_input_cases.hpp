@@ -292,7 +292,7 @@ inline std::vector<BadMesh> bad_meshes() {
         {"zero_area", make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}}),
                                                                      {0, 1, 0, 6, 6, 6, 6, 6, 6, 6, 6}, true},
         // below the library's degeneracy tolerance: refused like a zero-area face
-        {"needle", make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1e-9, 0}}, {{0, 1, 2}}),
+        {"needle", make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1e-13, 0}}, {{0, 1, 2}}),
                                                                      {0, 1, 0, 6, 6, 6, 6, 6, 6, 6, 6}, true},
         {"duplicate_faces", make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 1, 2}}),
                                                                      {0, 0, 0, 6, 0, 6, 0, 0, 0, 0, 6}, true},

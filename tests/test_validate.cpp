@@ -188,6 +188,23 @@ TEST(Validate, TheDefectsScopeFindsTheSameDefects) {
     EXPECT_GT(validate(misoriented).orientation_conflicts, 0);
 }
 
+// A cap 8e8 long whose apex lies 0.8 (1e-9 of the length) off its long side: its short sides
+// sum to the long one in rounding, so an area from the lengths was 0. Its area is 5e-10 of the
+// long side squared, no zero-area face: repair must not flip it (that moved the surface) and
+// validate must not count it.
+TEST(Validate, ZeroAreaIsJudgedFromCoordinatesNotSideLengths) {
+    const TriangleMesh mesh = make_mesh({{0, 0, 0}, {8e8, 0, 0}, {2e8, 0.8, 0}, {3e8, -2e8, 1e8}},
+                                        {{0, 1, 2}, {1, 0, 3}, {0, 2, 3}, {2, 1, 3}});
+    EXPECT_EQ(validate(mesh).zero_area_faces, 0);
+    RepairReport report;
+    repair(mesh, {}, &report);
+    EXPECT_EQ(report.flipped_caps, 0);
+    // Exactly on the side it is a cap, and the flip keeps the area.
+    TriangleMesh cap = mesh;
+    cap.V(2, 1) = 0;
+    EXPECT_EQ(validate(cap).zero_area_faces, 1);
+}
+
 TEST(Validate, IndexOutOfRangeThrows) {
     TriangleMesh mesh = make_icosphere(0);
     mesh.F(0, 0) = -1;
