@@ -86,8 +86,8 @@ struct ConvertOptions {
     int local_search = 0;
     /// split: also compute report.added_vertices_lower_bound (linear in the mesh size).
     bool lower_bound = false;
-    /// Print a progress line to stderr about every second (splits and flips, then the passes of
-    /// local search and their share of the points done).
+    /// Print progress lines to stderr: each phase as it starts, and about every second the
+    /// queue's splits and flips, or local search's share of the points done.
     bool progress = false;
     /// Compute the two-sided sampled Hausdorff distance output <-> input (0 for split). Off,
     /// report.hausdorff_rel is NaN wherever flips may have moved the surface: on a mesh of a

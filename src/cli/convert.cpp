@@ -52,9 +52,11 @@ int run_convert(Args& args) {
     const std::optional<std::string> report_path = args.option("--report");
     const auto paths = args.positionals(2, kConvertUsage);
 
+    if (options.progress) std::cerr << "convert: reading " << paths[0] << std::endl;
     TriangleMesh mesh = read_mesh(paths[0]);
     if (repair_first) mesh = about_file(paths[0], [&] { return repair(mesh); });
     const ConversionResult result = about_file(paths[0], [&] { return convert(mesh, options); });
+    if (options.progress) std::cerr << "convert: writing " << paths[1] << std::endl;
     write_mesh(paths[1], result.mesh);
 
     const ConversionReport& r = result.report;

@@ -25,6 +25,9 @@ void Converter::run(ConversionReport& report) {
         report.input_nonflat_non_delaunay_edges += needs_point_[e];
         enqueue(e, keys[e]);
     }
+    if (options_.progress)
+        std::fprintf(stderr, "convert: %lld of %d edges not locally Delaunay, %lld of them folds\n",
+                     report.input_non_delaunay_edges, edges, report.input_nonflat_non_delaunay_edges);
     if (tracks_moves_) {
         input_plane_ = input_planes();
         home_.resize(static_cast<size_t>(mesh_.num_faces()));
@@ -39,7 +42,9 @@ void Converter::run(ConversionReport& report) {
     drain(report);
     if (options_.method == ConvertMethod::split && report.status == ConvertStatus::certified &&
         report.vertices_inside_faces == 0) {
+        announce("removing the points no longer needed", report);
         remove_unneeded_points(report);
+        announce("the fewest points per input edge", report);
         // What the edges' new points changed may let other points go; elsewhere none can.
         if (const std::vector<char> respaced = fewest_points_per_edge(report); !respaced.empty())
             remove_unneeded_points(report, &respaced);
@@ -267,6 +272,9 @@ void check_options(const ConvertOptions& o) {
 ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options) {
     const auto start = conversion::Clock::now();
     check_options(options);
+    if (options.progress)
+        std::fprintf(stderr, "convert: checking the input, %d vertices and %d faces\n", mesh.num_vertices(),
+                     mesh.num_faces());
     require_indices_in_range(mesh);
     const double diagonal = require_supported_extent(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
@@ -287,6 +295,7 @@ ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options
     }
     report.output_vertices = result.mesh.num_vertices();
     report.output_faces = result.mesh.num_faces();
+    if (options.progress) std::fprintf(stderr, "convert: certifying the output\n");
     report.certificate = certify(result.mesh, {.boundary = options.boundary, .tolerance = options.tolerance});
     if (report.status != ConvertStatus::budget_exhausted && !report.certificate.self_delaunay)
         report.status = ConvertStatus::not_certified;

@@ -222,6 +222,13 @@ private:
     // report.splits exceed max_splits.
     void drain(ConversionReport& report, long long max_splits = std::numeric_limits<long long>::max());
 
+    // A --progress line as a phase starts: the phases after the queue's take seconds on large
+    // meshes without a line of their own.
+    void announce(const char* phase, const ConversionReport& report) const {
+        if (options_.progress)
+            std::fprintf(stderr, "convert: %s, %lld vertices added\n", phase, report.splits - report.removed_points);
+    }
+
     // Whether a line of --progress is due: at most one a second, from whichever phase runs.
     bool progress_due() {
         if (!options_.progress || Clock::now() - last_progress_ < std::chrono::seconds(1)) return false;
