@@ -9,7 +9,7 @@ co-circular) or need one ring of split points; moved by a little noise, some fac
 locally Delaunay or out of coplanar, and the rings of split points must stay in step around the
 band. The table gives the vertices that split adds for each shape, noise and seed (the noise is
 Gaussian, of that standard deviation, on every corner but the caps' centres), with a budget of
-20,000 added vertices. experiments/README.md tells what each shape once cost.
+20,000 added vertices. experiments/conversion_table/JOURNAL.md tells what each shape once cost.
 
 Shapes: shaft (36 rectangles of 884 x 3.5, one diagonal each, capped), zigzag (48 rectangles of
 300 x 2.6 cut alternately, capped), rows (a shaft of 72 sides in 3 rows), box (a closed box

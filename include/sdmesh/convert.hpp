@@ -74,7 +74,7 @@ struct ConvertOptions {
     /// split (and hybrid's splits): where every position for a split point breaks a physical
     /// side, so that the split costs more vertices, up to this many positions are tried: each
     /// split is made, the cascade it starts is followed for 16 splits and taken back, and the
-    /// cheapest is kept (see experiments/README.md for what more trials save and cost).
+    /// cheapest is kept (experiments/conversion_table/JOURNAL.md: what more trials save and cost).
     /// 0 or 1 = none: the first position by the sides it keeps and what they look like next.
     int cascade_trials = 4;
     /// split: passes of local search after the conversion. Around each split point, the split
@@ -82,7 +82,7 @@ struct ConvertOptions {
     /// result is kept where it has fewer vertices; then each split point whose faces around are
     /// all single-face planes is taken out while the points near it move until every piece is
     /// locally Delaunay again (deterministic: a fixed pseudo-random sequence per point). See
-    /// experiments/README.md for what it saves and costs. 0 = none.
+    /// experiments/conversion_table/JOURNAL.md for what it saves and costs. 0 = none.
     int local_search = 0;
     /// split: also compute report.added_vertices_lower_bound (linear in the mesh size).
     bool lower_bound = false;
