@@ -206,5 +206,47 @@ TEST_F(Cli, ErrorsHaveDistinctExitCodesAndOneLine) {
     expect_error("heat " + kBunny, 2, "are required");
 }
 
+// A malformed command line gets one line naming the command, the option and the value at fault;
+// counts and budgets are whole numbers in a stated range (1e30 used to wrap around to a negative
+// vertex budget, 2.5 was cut to 2).
+TEST_F(Cli, UsageErrorsNameTheCommandTheOptionAndTheValue) {
+    const std::string out = " " + path("out.obj");
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"convert " + kBunny + out + " --max-vertices 1e30",
+         "convert: --max-vertices expects a whole number from 0 to 2147483647, got '1e30'"},
+        {"convert " + kBunny + out + " --max-vertices 2.5",
+         "convert: --max-vertices expects a whole number from 0 to 2147483647, got '2.5'"},
+        {"convert " + kBunny + out + " --cascade-trials -1",
+         "convert: --cascade-trials expects a whole number from 0 to 1000, got '-1'"},
+        {"convert " + kBunny + out + " --local-search nan",
+         "convert: --local-search expects a whole number from 0 to 100, got 'nan'"},
+        {"convert " + kBunny + out + " --method best", "convert: --method must be split|hybrid|flip, got 'best'"},
+        {"convert " + kBunny + out + " --max-dihedral ten", "convert: --max-dihedral expects a number, got 'ten'"},
+        {"decimate " + kBunny + out + " --target-vertices 0",
+         "decimate: --target-vertices expects a whole number from 1 to 2147483647, got '0'"},
+        {"decimate " + kBunny + out + " --target-ratio 0.5 --boundary sideways",
+         "decimate: --boundary must be strict|free, got 'sideways'"},
+        {"intrinsic " + kBunny + " --out " + path("i") + " --max-flips 1.5",
+         "intrinsic: --max-flips expects a whole number from 0 to 9007199254740992, got '1.5'"},
+        {"eigs " + kBunny + " --out " + path("e") + " -k 2.5",
+         "eigs: -k expects a whole number from 1 to 1000000000, got '2.5'"},
+        {"eigs " + kBunny + " --out " + path("e") + " -k 4 --convert best",
+         "eigs: --convert must be split|hybrid|flip, got 'best'"},
+        {"heat " + kBunny + " --out " + path("h.ply") + " --time 1 --source 0 --steps -3",
+         "heat: --steps expects a whole number from 0 to 1000000000, got '-3'"},
+        {"check " + kBunny + " --boundary sideways", "check: --boundary must be strict|free, got 'sideways'"},
+        {"check " + kBunny + " --tolerance", "check: --tolerance needs a value"},
+    };
+    for (const auto& [arguments, message] : cases) {
+        const CliRun r = run_cli(arguments);
+        EXPECT_EQ(r.code, 2) << arguments;
+        EXPECT_EQ(r.err, "sdmesh: " + message + "\n") << arguments;
+        EXPECT_TRUE(r.out.empty()) << arguments;
+    }
+    const CliRun missing = run_cli("operators " + kBunny);
+    EXPECT_EQ(missing.err.rfind("sdmesh: operators: --out DIR is required; usage: sdmesh operators MESH", 0), 0u)
+        << missing.err;
+}
+
 }  // namespace
 }  // namespace sdmesh

@@ -1,6 +1,7 @@
 #pragma once
 // Command-line arguments of one subcommand: positionals, `--name value` options and flags.
 
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -16,10 +17,10 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// Its errors name the option and the value at fault; main() prefixes them with the command.
 class Args {
 public:
-    Args(std::vector<std::string> words, std::string command)
-        : words_(std::move(words)), used_(words_.size(), false), command_(std::move(command)) {}
+    explicit Args(std::vector<std::string> words) : words_(std::move(words)), used_(words_.size(), false) {}
 
     /// True if `--name` is present (consumed).
     bool flag(std::string_view name) {
@@ -32,7 +33,7 @@ public:
     std::optional<std::string> option(std::string_view name) {
         for (size_t i = 0; i < words_.size(); ++i) {
             if (used_[i] || words_[i] != name) continue;
-            if (i + 1 >= words_.size()) throw UsageError(command_ + ": " + std::string(name) + " needs a value");
+            if (i + 1 >= words_.size()) throw UsageError(std::string(name) + " needs a value");
             used_[i] = used_[i + 1] = true;
             return words_[i + 1];
         }
@@ -43,33 +44,40 @@ public:
     std::optional<double> number(std::string_view name) {
         const auto text = option(name);
         if (!text) return std::nullopt;
-        try {
-            size_t end = 0;
-            const double value = std::stod(*text, &end);
-            if (end == text->size()) return value;
-        } catch (const std::exception&) {
-        }
-        throw UsageError(command_ + ": " + std::string(name) + " expects a number, got '" + *text + "'");
+        if (const auto value = parse_number(*text)) return value;
+        throw UsageError(std::string(name) + " expects a number, got '" + *text + "'");
     }
 
-    /// The value of `--name` as one of named choices, `fallback` when absent, e.g.
-    /// choice("--boundary", {std::pair{"strict", X::strict}, std::pair{"free", X::free}}, X::strict).
+    /// The value of `--name` as a whole number in [least, most] (a count, a budget).
+    std::optional<long long> whole_number(std::string_view name, long long least, long long most) {
+        const auto text = option(name);
+        if (!text) return std::nullopt;
+        // Doubles hold every whole number up to 2^53, far beyond any count the commands take.
+        if (const auto value = parse_number(*text);
+            value && *value == std::floor(*value) && *value >= double(least) && *value <= double(most))
+            return static_cast<long long>(*value);
+        throw UsageError(std::string(name) + " expects a whole number from " + std::to_string(least) + " to " +
+                         std::to_string(most) + ", got '" + *text + "'");
+    }
+
+    /// The value of `--name` as one of named choices, if present, e.g.
+    /// choice("--boundary", {std::pair{"strict", X::strict}, std::pair{"free", X::free}}).
     template <class Enum, size_t N>
-    Enum choice(std::string_view name, const std::pair<const char*, Enum> (&choices)[N], Enum fallback) {
+    std::optional<Enum> choice(std::string_view name, const std::pair<const char*, Enum> (&choices)[N]) {
         const auto value = option(name);
-        if (!value) return fallback;
+        if (!value) return std::nullopt;
         std::string names;
         for (const auto& [text, result] : choices) {
             if (*value == text) return result;
             names += names.empty() ? text : std::string("|") + text;
         }
-        throw UsageError(command_ + ": " + std::string(name) + " must be " + names + ", got '" + *value + "'");
+        throw UsageError(std::string(name) + " must be " + names + ", got '" + *value + "'");
     }
 
     /// Throws the one-line usage error for required options that are missing, e.g.
-    /// missing("--out DIR is", usage) -> "sdmesh operators: --out DIR is required; usage: ...".
-    [[noreturn]] void missing(std::string_view what, std::string_view usage) const {
-        throw UsageError(command_ + ": " + std::string(what) + " required; usage: " + std::string(usage));
+    /// missing("--out DIR is", usage) -> "--out DIR is required; usage: ...".
+    [[noreturn]] static void missing(std::string_view what, std::string_view usage) {
+        throw UsageError(std::string(what) + " required; usage: " + std::string(usage));
     }
 
     /// The remaining words, in order, once options and flags are consumed; `expected` of them.
@@ -78,19 +86,27 @@ public:
         for (size_t i = 0; i < words_.size(); ++i) {
             if (used_[i]) continue;
             if (words_[i].starts_with("--"))
-                throw UsageError(command_ + ": unknown option " + words_[i] + "; usage: " + std::string(usage));
+                throw UsageError("unknown option " + words_[i] + "; usage: " + std::string(usage));
             rest.push_back(words_[i]);
         }
         if (rest.size() != expected)
-            throw UsageError(command_ + ": expected " + std::to_string(expected) + " argument(s); usage: " +
-                             std::string(usage));
+            throw UsageError("expected " + std::to_string(expected) + " argument(s); usage: " + std::string(usage));
         return rest;
     }
 
 private:
+    static std::optional<double> parse_number(const std::string& text) {
+        try {
+            size_t end = 0;
+            const double value = std::stod(text, &end);
+            if (end == text.size()) return value;
+        } catch (const std::exception&) {
+        }
+        return std::nullopt;
+    }
+
     std::vector<std::string> words_;
     std::vector<bool> used_;
-    std::string command_;
 };
 
 }  // namespace sdmesh::cli

@@ -8,6 +8,7 @@
 #include "cli/commands.hpp"
 #include "cli/json.hpp"
 #include "cli/reports.hpp"
+#include "cli/shared_options.hpp"
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
@@ -33,13 +34,6 @@ Inspection inspect(const std::string& path) {
         in.info = validate(in.mesh, in.edges);
     });
     return in;
-}
-
-BoundaryPolicy parse_boundary(Args& args) {
-    const auto value = args.option("--boundary").value_or("strict");
-    if (value == "strict") return BoundaryPolicy::strict;
-    if (value == "free") return BoundaryPolicy::free;
-    throw UsageError("--boundary must be strict or free, got '" + value + "'");
 }
 
 }  // namespace
@@ -73,7 +67,7 @@ int run_check(Args& args) {
     const auto usage = "sdmesh check MESH [--json] [--boundary strict|free] [--tolerance RAD]";
     const bool json = args.flag("--json");
     CertifyOptions options;
-    options.boundary = parse_boundary(args);
+    options.boundary = parse_boundary(args).value_or(BoundaryPolicy::strict);
     options.tolerance = args.number("--tolerance").value_or(kDelaunayTolerance);
     const auto path = args.positionals(1, usage)[0];
 

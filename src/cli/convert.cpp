@@ -1,13 +1,14 @@
 // `sdmesh convert IN OUT`: any manifold mesh to a certified self-Delaunay mesh.
 
-#include <cmath>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <string>
 
 #include "cli/commands.hpp"
 #include "cli/json.hpp"
 #include "cli/reports.hpp"
+#include "cli/shared_options.hpp"
 #include "sdmesh/convert.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/validate.hpp"
@@ -24,27 +25,18 @@ constexpr const char* kConvertUsage =
 
 int run_convert(Args& args) {
     ConvertOptions options;
-    options.method = args.choice("--method",
-                                  {std::pair{"split", ConvertMethod::split}, std::pair{"hybrid", ConvertMethod::hybrid},
-                                   std::pair{"flip", ConvertMethod::flip}},
-                                  options.method);
-    options.split_rule = args.choice(
-        "--split-rule", {std::pair{"interval", SplitRule::interval}, std::pair{"shell", SplitRule::shell}},
-        options.split_rule);
-    options.boundary = args.choice(
-        "--boundary", {std::pair{"strict", BoundaryPolicy::strict}, std::pair{"free", BoundaryPolicy::free}},
-        options.boundary);
+    options.method = parse_method(args, "--method").value_or(options.method);
+    options.split_rule = args.choice("--split-rule", {std::pair{"interval", SplitRule::interval},
+                                                      std::pair{"shell", SplitRule::shell}})
+                             .value_or(options.split_rule);
+    options.boundary = parse_boundary(args).value_or(options.boundary);
     options.max_dihedral_deg = args.number("--max-dihedral").value_or(options.max_dihedral_deg);
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);
-    options.max_vertices = static_cast<long long>(args.number("--max-vertices").value_or(0));
-    const double trials = args.number("--cascade-trials").value_or(options.cascade_trials);
-    if (!(trials >= 0 && trials <= 1000 && trials == std::floor(trials)))
-        throw UsageError("convert: --cascade-trials expects a whole number from 0 to 1000");
-    options.cascade_trials = static_cast<int>(trials);
-    const double passes = args.number("--local-search").value_or(0);
-    if (!(passes >= 0 && passes <= 100 && passes == std::floor(passes)))
-        throw UsageError("convert: --local-search expects a whole number of passes from 0 to 100");
-    options.local_search = static_cast<int>(passes);
+    // Vertex ids are ints.
+    options.max_vertices = args.whole_number("--max-vertices", 0, std::numeric_limits<int>::max()).value_or(0);
+    options.cascade_trials =
+        static_cast<int>(args.whole_number("--cascade-trials", 0, 1000).value_or(options.cascade_trials));
+    options.local_search = static_cast<int>(args.whole_number("--local-search", 0, 100).value_or(0));
     options.lower_bound = args.flag("--lower-bound");
     options.progress = args.flag("--progress");
     options.measure_hausdorff = !args.flag("--no-hausdorff");

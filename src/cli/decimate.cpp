@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -11,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/json.hpp"
 #include "cli/reports.hpp"
+#include "cli/shared_options.hpp"
 #include "sdmesh/convert.hpp"
 #include "sdmesh/decimate.hpp"
 #include "sdmesh/io.hpp"
@@ -35,7 +37,7 @@ std::vector<double> parse_ratios(const std::string& text) {
             end = 0;
         }
         if (end == 0 || end != item.size() || !(value > 0 && value < 1))
-            throw UsageError("sdmesh decimate: --levels expects ratios in (0, 1) separated by commas, got '" + text + "'");
+            throw UsageError("--levels expects ratios in (0, 1) separated by commas, got '" + text + "'");
         ratios.push_back(value);
     }
     return ratios;
@@ -53,21 +55,16 @@ std::filesystem::path level_path(const std::filesystem::path& out, size_t level)
 
 int run_decimate(Args& args) {
     DecimateOptions options;
-    const std::optional<double> target_vertices = args.number("--target-vertices");
+    const std::optional<long long> target_vertices =
+        args.whole_number("--target-vertices", 1, std::numeric_limits<int>::max());
     const std::optional<double> target_ratio = args.number("--target-ratio");
     if (target_vertices.has_value() == target_ratio.has_value())
         args.missing("exactly one of --target-vertices N and --target-ratio R is", kDecimateUsage);
-    if (target_vertices && !(*target_vertices >= 1 && *target_vertices == std::floor(*target_vertices)))
-        throw UsageError("sdmesh decimate: --target-vertices expects a positive whole number");
-    options.target_vertices = target_vertices ? static_cast<long long>(*target_vertices) : 0;
+    options.target_vertices = target_vertices.value_or(0);
     options.target_ratio = target_ratio.value_or(options.target_ratio);
     options.max_error = args.number("--max-error").value_or(options.max_error);
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);
-    if (const auto boundary = args.option("--boundary")) {
-        if (*boundary != "strict" && *boundary != "free")
-            throw UsageError("sdmesh decimate: --boundary must be strict|free, got '" + *boundary + "'");
-        options.boundary = *boundary == "strict" ? BoundaryPolicy::strict : BoundaryPolicy::free;
-    }
+    options.boundary = parse_boundary(args).value_or(options.boundary);
     const bool convert_first = args.flag("--convert-first");
     const std::optional<std::string> levels_text = args.option("--levels");
     options.progress = args.flag("--progress");

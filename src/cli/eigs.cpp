@@ -7,7 +7,6 @@
 //   report.json      the input summary and the solver report (status, iterations, residual, ...)
 
 #include <bit>
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -51,7 +50,7 @@ int run_eigs(Args& args) {
         "[--convert split|hybrid|flip | --intrinsic] [--sigma S] [--tolerance T] [--solver block|spectra] "
         "[--progress]";
     const SolverChoices choices = parse_solver_choices(args);
-    const auto k = args.number("-k");
+    const auto k = args.whole_number("-k", 1, 1'000'000'000);
     EigenOptions options;
     options.sigma = args.number("--sigma").value_or(options.sigma);
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);
@@ -59,13 +58,12 @@ int run_eigs(Args& args) {
     options.solver = args.choice("--solver",
                                  {std::pair{to_string(EigenSolver::block_lanczos).data(), EigenSolver::block_lanczos},
                                   std::pair{to_string(EigenSolver::spectra_lanczos).data(),
-                                            EigenSolver::spectra_lanczos}},
-                                 options.solver);
+                                            EigenSolver::spectra_lanczos}})
+                         .value_or(options.solver);
     const auto out = args.option("--out");
     const auto path = args.positionals(1, usage)[0];
     if (!out) args.missing("--out DIR is", usage);
-    if (!k || *k != std::floor(*k) || std::abs(*k) > 1e9)
-        args.missing("-k K (a whole number) is", usage);
+    if (!k) args.missing("-k K is", usage);
     options.k = static_cast<int>(*k);
     const std::filesystem::path dir = *out;
 

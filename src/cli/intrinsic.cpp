@@ -2,7 +2,6 @@
 // operator files as `sdmesh operators`, plus report.json with the flip report.
 
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -20,11 +19,7 @@ int run_intrinsic(Args& args) {
     const MassChoice mass = parse_mass(args);
     IntrinsicOptions options;
     options.tolerance = args.number("--tolerance").value_or(kDelaunayTolerance);
-    if (const auto max_flips = args.number("--max-flips")) {
-        if (!(*max_flips >= 0) || *max_flips != std::floor(*max_flips) || *max_flips > 1e18)
-            throw UsageError("sdmesh intrinsic: --max-flips must be a whole number >= 0");
-        options.max_flips = static_cast<long long>(*max_flips);
-    }
+    options.max_flips = args.whole_number("--max-flips", 0, 1LL << 53).value_or(options.max_flips);
     const auto out = args.option("--out");
     const auto path = args.positionals(1, usage)[0];
     if (!out) args.missing("--out DIR is", usage);

@@ -145,11 +145,11 @@ int main(int argc, char** argv) {
             std::cout << command_help(command.name);
             return kSuccess;
         }
-        Args args({words.begin() + 1, words.end()}, "sdmesh " + std::string(command.name));
+        Args args({words.begin() + 1, words.end()});
         try {
             return command.run(args);
         } catch (const UsageError& e) {
-            return fail(kUsage, e.what());
+            return fail(kUsage, std::string(command.name) + ": " + e.what());
         } catch (const sdmesh::IoError& e) {
             return fail(kIoError, e.what());
         } catch (const sdmesh::UnsupportedFormatError& e) {

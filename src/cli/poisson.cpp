@@ -88,13 +88,11 @@ int run_heat(Args& args) {
     const auto u0_path = args.option("--u0");
     const auto source = args.option("--source");
     const auto time = args.number("--time");
-    const double steps = args.number("--steps").value_or(1);
+    const long long steps = args.whole_number("--steps", 0, 1'000'000'000).value_or(1);
     const auto out = args.option("--out");
     const auto path = args.positionals(1, usage)[0];
     if (!out || !time || u0_path.has_value() == source.has_value())
         args.missing("--time, --out and one of --u0, --source are", usage);
-    if (steps != std::floor(steps) || steps < 0 || steps > 1e9)
-        throw UsageError("sdmesh heat: --steps must be a whole number >= 0");
 
     JsonObject report;
     const SolverInput input = load_solver_input(path, choices, report);
@@ -115,7 +113,7 @@ int run_heat(Args& args) {
     const double solve_seconds = seconds_since(start);
     write_mesh(*out, input.mesh, {.vertex_fields = {{"u", u}}});
     report.add("time", *time)
-        .add("steps", static_cast<long long>(steps))
+        .add("steps", steps)
         .add("min_u", u.minCoeff())
         .add("max_u", u.maxCoeff())
         .add("seconds", solve_seconds);

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "cli/shared_options.hpp"
 #include "sdmesh/intrinsic.hpp"
 #include "sdmesh/io.hpp"
 
@@ -14,12 +15,7 @@ namespace sdmesh::cli {
 
 SolverChoices parse_solver_choices(Args& args) {
     SolverChoices choices{.mass = parse_mass(args)};
-    if (const auto method = args.option("--convert")) {
-        if (*method == "split") choices.convert = ConvertMethod::split;
-        else if (*method == "hybrid") choices.convert = ConvertMethod::hybrid;
-        else if (*method == "flip") choices.convert = ConvertMethod::flip;
-        else throw UsageError("--convert must be split|hybrid|flip, got '" + *method + "'");
-    }
+    choices.convert = parse_method(args, "--convert");
     choices.intrinsic = args.flag("--intrinsic");
     if (choices.convert && choices.intrinsic) throw UsageError("--convert and --intrinsic exclude each other");
     return choices;
