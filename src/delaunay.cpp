@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <numbers>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -100,6 +103,14 @@ void judge_hinges(const HingeLengths& in, int size, double tan_tolerance, double
 
 }  // namespace
 
+void require_delaunay_tolerance(double tolerance, std::string_view who) {
+    if (!(tolerance >= 0 && tolerance < std::numbers::pi / 2)) {
+        char value[32];
+        std::snprintf(value, sizeof value, "%g", tolerance);
+        throw InvalidArgumentError(std::string(who) + ": tolerance must be in [0, π/2) radians, got " + value);
+    }
+}
+
 double delaunay_margin(double l, double a, double b, double c, double d) {
     return scaled_margin(4.0 * triangle_area(l, a, b), cosine_numerator(l, a, b), 4.0 * triangle_area(l, c, d),
                          cosine_numerator(l, c, d))
@@ -136,7 +147,7 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const CertifyOptions& opti
 
 DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
                             const CertifyOptions& options) {
-    if (!(options.tolerance >= 0)) throw InvalidArgumentError("certify: tolerance must be >= 0");
+    require_delaunay_tolerance(options.tolerance, "certify");
     if (edges.face_edge.rows() != mesh.F.rows())
         throw InvalidArgumentError("certify: the edge table was built for another mesh");
     require_indices_in_range(mesh);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numbers>
 #include <limits>
 #include <string>
 #include <utility>
@@ -90,9 +89,7 @@ void count_improper_edges(const Triangulation& t, IntrinsicReport& report) {
 
 IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOptions& options) {
     const auto start = std::chrono::steady_clock::now();
-    if (!(options.tolerance >= 0 && options.tolerance < std::numbers::pi / 2))
-        throw InvalidArgumentError("intrinsic_delaunay: tolerance must be in [0, π/2), got " +
-                                   std::to_string(options.tolerance));
+    require_delaunay_tolerance(options.tolerance, "intrinsic_delaunay");
     t.check();
     require_oriented(t);
 

@@ -2,18 +2,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include "meshes.hpp"
+#include "sdmesh/convert.hpp"
+#include "sdmesh/decimate.hpp"
 #include "sdmesh/delaunay.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
+#include "sdmesh/intrinsic.hpp"
 #include "sdmesh/mesh.hpp"
 #include "sdmesh/shapes.hpp"
 
@@ -281,6 +288,41 @@ TEST(Certificate, RejectsNonFiniteCoordinatesAndBadIndices) {
     mesh.F(5, 2) = 12;
     EXPECT_THROW(certify(mesh), InvalidMeshError);
     EXPECT_THROW(certify(make_icosphere(0), {.tolerance = -1}), InvalidArgumentError);
+}
+
+// Every function with an LD test takes the tolerances of the policy, [0, π/2), and refuses the
+// others by name. Within them the tolerance means what the policy says: a flat kite whose short
+// diagonal is its edge, seen under 2·atan(1/0.8) from both sides, is LD from a tolerance of
+// 4·atan(1.25) - π (0.443 rad) on.
+TEST(Certificate, EveryLocallyDelaunayTestTakesTheSameTolerances) {
+    const TriangleMesh kite = make_mesh({{-1, 0, 0}, {1, 0, 0}, {0, 0.8, 0}, {0, -0.8, 0}}, {{0, 1, 2}, {1, 0, 3}});
+    const double margin = kPi - 4 * std::atan(1.25);
+    EXPECT_NEAR(certify(kite).min_delaunay_margin, margin, 1e-15);
+    EXPECT_EQ(certify(kite, {.tolerance = -margin * (1 - 1e-12)}).non_delaunay_edges, 1);
+    EXPECT_EQ(certify(kite, {.tolerance = -margin * (1 + 1e-12)}).non_delaunay_edges, 0);
+    EXPECT_EQ(certify(kite, {.tolerance = 1.57}).non_delaunay_edges, 0);
+
+    const TriangleMesh sphere = make_icosphere(1);
+    const std::vector<std::pair<std::string, std::function<void(double)>>> tests = {
+        {"certify", [&](double tol) { certify(sphere, {.tolerance = tol}); }},
+        {"convert", [&](double tol) { convert(sphere, {.tolerance = tol}); }},
+        {"decimate", [&](double tol) { decimate(sphere, {.target_ratio = 0.5, .tolerance = tol}); }},
+        {"intrinsic_delaunay",
+         [&](double tol) { intrinsic_delaunay(Triangulation::from_mesh(sphere), {.tolerance = tol}); }},
+    };
+    for (const auto& [who, run] : tests) {
+        for (const double bad : {-1e-12, kPi / 2, 10.0, std::numeric_limits<double>::quiet_NaN()}) {
+            try {
+                run(bad);
+                ADD_FAILURE() << who << " took the tolerance " << bad;
+            } catch (const InvalidArgumentError& e) {
+                EXPECT_EQ(std::string(e.what()).rfind(who + ": tolerance must be in [0, π/2) radians, got ", 0), 0u)
+                    << e.what();
+            }
+        }
+        EXPECT_NO_THROW(run(0.0)) << who;
+        EXPECT_NO_THROW(run(1.5)) << who;
+    }
 }
 
 }  // namespace

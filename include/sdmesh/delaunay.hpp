@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string_view>
 
 #include <Eigen/Core>
 
@@ -35,6 +36,11 @@ enum class BoundaryPolicy {
 /// This and the functions below multiply up to four lengths: keep them within about 1e±75
 /// (callers at other scales divide the lengths by a power of two first, as intrinsic_delaunay).
 [[nodiscard]] double delaunay_margin(double l, double a, double b, double c, double d);
+
+/// Throws InvalidArgumentError, naming `who`, unless 0 <= tolerance < π/2: the tolerances every
+/// LD test accepts (beyond π/2, the tests without angles, which compare against tan(tolerance),
+/// would no longer mean margin >= -tolerance).
+void require_delaunay_tolerance(double tolerance, std::string_view who);
 
 /// The verdict delaunay_margin(l, a, b, c, d) >= -tolerance, without evaluating the angle: for
 /// the hot loops of flipping and conversion. \pre 0 <= tolerance < π/2.
@@ -96,7 +102,7 @@ struct ScaledMargin {
 
 struct CertifyOptions {
     BoundaryPolicy boundary = BoundaryPolicy::strict;  ///< how boundary edges are judged
-    double tolerance = kDelaunayTolerance;             ///< see the tolerance policy above, >= 0
+    double tolerance = kDelaunayTolerance;             ///< see the tolerance policy above, in [0, π/2)
     bool edge_margins = false;                         ///< also fill DelaunayCertificate::edge_margin
 };
 
@@ -133,7 +139,7 @@ struct DelaunayCertificate {
 /// Certifies a mesh. Lengths come from V; the mesh may have boundaries, several components and
 /// non-manifold parts (which are counted, not judged).
 /// \throws InvalidMeshError a coordinate is not finite, or a face index is out of range.
-/// \throws InvalidArgumentError tolerance < 0.
+/// \throws InvalidArgumentError tolerance outside [0, π/2).
 DelaunayCertificate certify(const TriangleMesh& mesh, const CertifyOptions& options = {});
 
 /// The same on an edge table already built for this mesh (saves rebuilding it).

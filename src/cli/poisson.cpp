@@ -102,7 +102,7 @@ int run_heat(Args& args) {
     else
         for (int v : parse_vertex_list("--source", *source)) {
             if (v >= n)
-                throw InvalidArgumentError("--source: vertex " + std::to_string(v) + " is out of range [0, " +
+                throw InvalidArgumentError("heat: --source: vertex " + std::to_string(v) + " is out of range [0, " +
                                            std::to_string(n) + ")");
             u0[v] = 1;
         }

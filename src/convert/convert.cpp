@@ -256,8 +256,7 @@ namespace sdmesh {
 namespace {
 
 void check_options(const ConvertOptions& o) {
-    if (!(o.tolerance >= 0 && o.tolerance < std::numbers::pi / 2))
-        throw InvalidArgumentError("convert: tolerance must be in [0, π/2)");
+    require_delaunay_tolerance(o.tolerance, "convert");
     if (!(o.max_dihedral_deg >= 0 && o.max_dihedral_deg <= 180))
         throw InvalidArgumentError("convert: max_dihedral_deg must be in [0, 180]");
     if (!(o.coplanar_tolerance >= 0)) throw InvalidArgumentError("convert: coplanar_tolerance must be >= 0");

@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <exception>
 #include <limits>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -200,8 +199,7 @@ void check_options(const DecimateOptions& o, long long input_vertices, long long
     if (o.target_vertices == 0 && !(o.target_ratio > 0 && o.target_ratio <= 1))
         throw InvalidArgumentError("decimate: target_ratio must be in (0, 1]");
     if (!(o.max_error >= 0)) throw InvalidArgumentError("decimate: max_error must be >= 0");
-    if (!(o.tolerance >= 0 && o.tolerance < std::numbers::pi / 2))
-        throw InvalidArgumentError("decimate: tolerance must be in [0, π/2)");
+    require_delaunay_tolerance(o.tolerance, "decimate");
     for (size_t i = 0; i < o.levels.size(); ++i)
         if (o.levels[i] <= target || o.levels[i] >= input_vertices || (i > 0 && o.levels[i] >= o.levels[i - 1]))
             throw InvalidArgumentError("decimate: level " + std::to_string(i) + " (" + std::to_string(o.levels[i]) +
