@@ -350,6 +350,32 @@ TEST(ConvertMethods, AFlatFanTakesLinearlyManyFlips) {
 // piece until it looked flat, and it was flipped: the surface moved, and point removal walked
 // around the lost piece's point without end (the whole skull ran out of memory). Every fold must
 // stay covered by output edges, one between each two consecutive points on it.
+// Above the default coplanar tolerance split may flip a shallow fold, which moves the surface;
+// the report then measures how far instead of claiming 0. A kite of two faces whose hinge is not
+// locally Delaunay, one apex lifted by h (a fold of about h / 0.8 rad): the flip's new diagonal
+// passes h/2 above the old hinge's midpoint, the farthest the new surface gets from the old.
+TEST(ConvertMethods, ARaisedCoplanarToleranceReportsHowFarTheSurfaceMoved) {
+    const double h = 1e-4;
+    const TriangleMesh kite = make_mesh({{-1, 0, 0}, {1, 0, 0}, {0, 0.8, 0}, {0, -0.8, h}}, {{0, 1, 2}, {1, 0, 3}});
+    const ConversionResult kept = convert(kite);
+    EXPECT_EQ(kept.report.status, ConvertStatus::certified);
+    EXPECT_EQ(kept.report.flips, 0);
+    EXPECT_EQ(kept.mesh.num_vertices(), 5);
+    EXPECT_EQ(kept.report.hausdorff_rel, 0.0);
+
+    const ConversionResult flipped = convert(kite, {.coplanar_tolerance = 1e-3});
+    EXPECT_EQ(flipped.report.status, ConvertStatus::certified);
+    EXPECT_EQ(flipped.report.flips, 1);
+    EXPECT_EQ(flipped.mesh.num_vertices(), 4);
+    const double farthest = h / 2 / bounding_box_diagonal(kite);
+    EXPECT_GT(flipped.report.hausdorff_rel, 0.25 * farthest);
+    EXPECT_LT(flipped.report.hausdorff_rel, (1 + 1e-6) * farthest);
+    EXPECT_TRUE(std::isnan(convert(kite, {.coplanar_tolerance = 1e-3, .measure_hausdorff = false}).report.hausdorff_rel));
+
+    EXPECT_THROW(convert(kite, {.coplanar_tolerance = std::numbers::pi / 2}), InvalidArgumentError);
+    EXPECT_THROW(convert(kite, {.coplanar_tolerance = -1e-12}), InvalidArgumentError);
+}
+
 TEST(ConvertMethods, FoldsInsideChainedPlanesStayEdges) {
     const TriangleMesh input = read_mesh(std::string(SDMESH_TEST_DATA_DIR) + "/skull_chained_plane.obj");
     const double coplanar = 1e-5;

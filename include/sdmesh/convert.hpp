@@ -53,16 +53,22 @@ enum class ConvertStatus {
     not_certified,     ///< flip method: unflippable non-Delaunay edges remain
 };
 
+/// The default ConvertOptions::coplanar_tolerance: faces this close to coplanar are taken as one
+/// plane, and a flip across their edge moves the surface by less than 1e-10 of the edge's length.
+inline constexpr double kExactlyCoplanar = 1e-10;
+
 struct ConvertOptions {
     ConvertMethod method = ConvertMethod::split;
     SplitRule split_rule = SplitRule::interval;
     /// hybrid: edges whose dihedral angle is within this many degrees of flat (180°) are flipped.
     double max_dihedral_deg = 10.0;
-    /// split: two faces count as coplanar (so their edge may be flipped without moving the
-    /// surface) when their normals differ by at most this angle, in radians.
-    double coplanar_tolerance = 1e-10;
+    /// split: two faces count as coplanar (so their edge may be flipped) when their normals differ
+    /// by at most this angle, in radians, in [0, π/2). At the default the surface does not move;
+    /// above it a flip can move it by about this angle times an edge length (to absorb a file's
+    /// rounding of planar faces), and report.hausdorff_rel measures how far.
+    double coplanar_tolerance = kExactlyCoplanar;
     BoundaryPolicy boundary = BoundaryPolicy::strict;
-    double tolerance = kDelaunayTolerance;  ///< the locally-Delaunay tolerance, radians
+    double tolerance = kDelaunayTolerance;  ///< the locally-Delaunay tolerance, radians, [0, π/2)
     /// Stop with status budget_exhausted when this many vertices have been made: the input's and
     /// every split point, also those removed again later (their ids are not reused), so the
     /// output can hold fewer; 0 = 10·|V| + 100000.
@@ -121,7 +127,8 @@ struct ConversionReport {
     long long added_vertices_lower_bound = -1;
     ConvertStatus status = ConvertStatus::certified;
     double seconds = 0;
-    /// Two-sided, relative to the input's bounding-box diagonal; NaN when not measured.
+    /// Two-sided, relative to the input's bounding-box diagonal, sampled; 0 for split at the
+    /// default coplanar tolerance (nothing moves); NaN when not measured.
     double hausdorff_rel = 0;
     DelaunayCertificate certificate;  ///< of the output, under the same boundary policy
 };

@@ -259,7 +259,8 @@ void check_options(const ConvertOptions& o) {
     require_delaunay_tolerance(o.tolerance, "convert");
     if (!(o.max_dihedral_deg >= 0 && o.max_dihedral_deg <= 180))
         throw InvalidArgumentError("convert: max_dihedral_deg must be in [0, 180]");
-    if (!(o.coplanar_tolerance >= 0)) throw InvalidArgumentError("convert: coplanar_tolerance must be >= 0");
+    if (!(o.coplanar_tolerance >= 0 && o.coplanar_tolerance < std::numbers::pi / 2))
+        throw InvalidArgumentError("convert: coplanar_tolerance must be in [0, π/2) radians");
     if (o.max_vertices < 0) throw InvalidArgumentError("convert: max_vertices must be >= 0");
     if (o.max_flips < 0) throw InvalidArgumentError("convert: max_flips must be >= 0");
     if (o.local_search < 0) throw InvalidArgumentError("convert: local_search must be >= 0");
@@ -301,15 +302,18 @@ ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options
     if (options.method == ConvertMethod::flip)
         report.unflippable_edges = report.certificate.non_delaunay_edges +
                                    (options.boundary == BoundaryPolicy::strict ? report.certificate.boundary_obtuse_edges : 0);
-    if (report.flips > 0 && options.method != ConvertMethod::split) {
+    // Split flips only inside planes, which at the default tolerance are exactly planar; above it,
+    // its flips can move the surface anywhere in a plane, so the whole surface is sampled.
+    const bool split_may_move = options.method == ConvertMethod::split && options.coplanar_tolerance > kExactlyCoplanar;
+    if (report.flips > 0 && (options.method != ConvertMethod::split || split_may_move)) {
         if (options.progress && options.measure_hausdorff)
             std::fprintf(stderr, "convert: measuring the Hausdorff distance to the input\n");
         // A few samples per face: the flips change the surface by a fraction of an edge length.
-        report.hausdorff_rel = options.measure_hausdorff
-                                   ? hausdorff_distance_of_edit(mesh, result.mesh, edit,
-                                                                {.samples_per_face = 4, .max_samples = 4'000'000})
-                                         .hausdorff_rel
-                                   : std::numeric_limits<double>::quiet_NaN();
+        const HausdorffOptions sampling{.samples_per_face = 4, .max_samples = 4'000'000};
+        report.hausdorff_rel =
+            !options.measure_hausdorff ? std::numeric_limits<double>::quiet_NaN()
+            : split_may_move           ? hausdorff_distance(mesh, result.mesh, sampling).hausdorff_rel
+                                       : hausdorff_distance_of_edit(mesh, result.mesh, edit, sampling).hausdorff_rel;
     }
     report.seconds = std::chrono::duration<double>(conversion::Clock::now() - start).count();
     return result;
