@@ -24,6 +24,7 @@
 #include "mass_product.hpp"
 #include "block_lanczos.hpp"
 #include "free_vertices.hpp"
+#include "number_text.hpp"
 #include "prefault.hpp"
 #include "symmetric_product.hpp"
 
@@ -79,13 +80,13 @@ constexpr int kMinEigenMargin = 10;
 void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& options) {
     detail::check_square_pair(L, M, "eigenpairs");
     if (!(options.tolerance > 0))
-        throw InvalidArgumentError("eigenpairs: tolerance must be > 0, got " + std::to_string(options.tolerance));
+        throw InvalidArgumentError("eigenpairs: tolerance must be > 0, got " + detail::number_text(options.tolerance));
     if (options.max_iterations < 1)
         throw InvalidArgumentError("eigenpairs: max_iterations must be >= 1, got " +
                                    std::to_string(options.max_iterations));
     if (!std::isnan(options.sigma) && !(options.sigma < 0))
         throw InvalidArgumentError("eigenpairs: the shift sigma must be negative (L is singular), got " +
-                                   std::to_string(options.sigma));
+                                   detail::number_text(options.sigma));
     // M must be positive definite; a non-positive diagonal entry (e.g. a negative circumcentric
     // dual cell) rules that out, and Lanczos in the M inner product would break down on it.
     const Eigen::VectorXd mass = M.diagonal();

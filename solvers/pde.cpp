@@ -13,6 +13,7 @@
 #include "sdmesh/geometry.hpp"
 
 #include "free_vertices.hpp"
+#include "number_text.hpp"
 
 namespace sdmesh {
 namespace {
@@ -27,13 +28,13 @@ void check_vector(const Eigen::VectorXd& x, Eigen::Index size, const char* who, 
     for (Eigen::Index i = 0; i < size; ++i)
         if (!std::isfinite(x[i]))
             throw InvalidArgumentError(std::string(who) + ": " + what + " has a non-finite entry at " +
-                                       std::to_string(i) + " (" + std::to_string(x[i]) + ")");
+                                       std::to_string(i) + " (" + detail::number_text(x[i]) + ")");
 }
 
 void check_time_step(double t, const char* who) {
     if (!(t > 0) || !std::isfinite(t))
         throw InvalidArgumentError(std::string(who) + ": the time step must be positive and finite, got " +
-                                   std::to_string(t));
+                                   detail::number_text(t));
 }
 
 // Far above the squared edge lengths (~ trace(M) / trace(L)), t·L swamps M in M + tL: relative to

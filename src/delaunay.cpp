@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -13,6 +12,7 @@
 
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
+#include "number_text.hpp"
 #include "prefault.hpp"
 
 namespace sdmesh {
@@ -104,11 +104,9 @@ void judge_hinges(const HingeLengths& in, int size, double tan_tolerance, double
 }  // namespace
 
 void require_delaunay_tolerance(double tolerance, std::string_view who) {
-    if (!(tolerance >= 0 && tolerance < std::numbers::pi / 2)) {
-        char value[32];
-        std::snprintf(value, sizeof value, "%g", tolerance);
-        throw InvalidArgumentError(std::string(who) + ": tolerance must be in [0, π/2) radians, got " + value);
-    }
+    if (!(tolerance >= 0 && tolerance < std::numbers::pi / 2))
+        throw InvalidArgumentError(std::string(who) + ": tolerance must be in [0, π/2) radians, got " +
+                                   detail::number_text(tolerance));
 }
 
 double delaunay_margin(double l, double a, double b, double c, double d) {

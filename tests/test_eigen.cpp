@@ -317,6 +317,16 @@ TEST(Arguments, AreChecked) {
     EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 3, .basis_size = 3}), InvalidArgumentError);
     EXPECT_THROW(smallest_eigenpairs(L, Sparse(-M), {.k = 3}), NumericalError);  // M not positive
     EXPECT_THROW(smallest_eigenpairs(L, M, {.k = 3, .sigma = -1.0, .tolerance = 0}), InvalidArgumentError);
+    // The value at fault is printed as it reads back, not with six decimals.
+    for (const auto& [options, value] : {std::pair{EigenOptions{.k = 3, .sigma = 1e300}, "got 1e+300"},
+                                         std::pair{EigenOptions{.k = 3, .tolerance = -1e-20}, "got -1e-20"}}) {
+        try {
+            (void)smallest_eigenpairs(L, M, options);
+            ADD_FAILURE() << "no exception for " << value;
+        } catch (const InvalidArgumentError& e) {
+            EXPECT_NE(std::string(e.what()).find(value), std::string::npos) << e.what();
+        }
+    }
 }
 
 TEST(Arguments, MassWithANegativeDualCellIsRefusedByName) {

@@ -18,6 +18,7 @@
 #include "io/formats.hpp"
 #include "io/mesh_builder.hpp"
 #include "io/text_scanner.hpp"
+#include "number_text.hpp"
 #include "sdmesh/error.hpp"
 
 namespace sdmesh::io {
@@ -393,7 +394,7 @@ private:
         if (is_integral(type)) return in_.integer(type);
         const double value = in_.number(type);
         if (!(std::abs(value) < 0x1p62) || value != std::trunc(value)) {
-            in_.fail("expected an integer, found " + std::to_string(value));
+            in_.fail("expected an integer, found " + detail::number_text(value));
         }
         return static_cast<long long>(value);
     }
