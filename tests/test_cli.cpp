@@ -206,6 +206,40 @@ TEST_F(Cli, ErrorsHaveDistinctExitCodesAndOneLine) {
     expect_error("heat " + kBunny, 2, "are required");
 }
 
+// Outputs that cannot be written are refused before the work, not after it, and nothing is
+// written then (convert used to write its mesh, then fail on the report's missing folder).
+TEST_F(Cli, OutputsThatCannotBeWrittenAreRefusedFirst) {
+    const std::string mesh = path("converted.obj"), missing = path("no/such/folder");
+    const std::string a_file = write_text("a_file.txt", "not a folder\n");
+    struct Case {
+        std::string arguments;
+        int code;
+        std::string message;
+    };
+    const std::vector<Case> cases = {
+        {"convert " + kBunny + " " + mesh + " --report " + missing + "/r.json", 3,
+         missing + "/r.json: cannot create file: No such file or directory"},
+        {"convert " + kBunny + " " + missing + "/out.obj", 3, missing + "/out.obj: cannot create file: "},
+        {"convert " + kBunny + " " + path("out.stl"), 4, "writing STL is not supported"},
+        {"decimate " + kBunny + " " + mesh + " --convert-first --target-ratio 0.5 --report " + missing + "/r.json", 3,
+         missing + "/r.json: cannot create file: "},
+        {"repair " + kBunny + " " + missing + "/out.obj", 3, missing + "/out.obj: cannot create file: "},
+        {"geodesic " + kBunny + " --source 0 --out " + path("distance.obj"), 7,
+         "vertex fields can only be written to PLY files"},
+        {"heat " + kBunny + " --source 0 --time 1 --out " + missing + "/u.ply", 3, "cannot create file: "},
+        {"eigs " + kBunny + " -k 3 --out " + a_file + "/eigs", 3,
+         a_file + "/eigs: cannot create the output folder: " + a_file + " is not a folder"},
+        {"operators " + kBunny + " --out " + a_file, 3, "cannot create the output folder"},
+    };
+    for (const Case& c : cases) {
+        const CliRun r = run_cli(c.arguments);
+        EXPECT_EQ(r.code, c.code) << c.arguments << "\n" << r.err;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << c.arguments << "\n" << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(mesh)) << c.arguments;
+    }
+}
+
 // A malformed command line gets one line naming the command, the option and the value at fault;
 // counts and budgets are whole numbers in a stated range (1e30 used to wrap around to a negative
 // vertex budget, 2.5 was cut to 2).

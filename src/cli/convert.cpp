@@ -46,6 +46,8 @@ int run_convert(Args& args) {
 
     if (options.progress) std::cerr << "convert: reading " << paths[0] << std::endl;
     TriangleMesh mesh = read_mesh(paths[0]);
+    check_mesh_output(paths[1]);  // before the conversion, not after it
+    if (report_path) check_text_output(*report_path);
     if (repair_first) mesh = about_file(paths[0], [&] { return repair(mesh); });
     const ConversionResult result = about_file(paths[0], [&] { return convert(mesh, options); });
     if (options.progress) std::cerr << "convert: writing " << paths[1] << std::endl;

@@ -73,6 +73,8 @@ int run_decimate(Args& args) {
     const auto paths = args.positionals(2, kDecimateUsage);
 
     TriangleMesh mesh = read_mesh(paths[0]);
+    check_mesh_output(paths[1]);  // before the decimation, not after it; levels go beside it
+    if (report_path) check_text_output(*report_path);
     std::optional<ConversionReport> conversion;
     if (convert_first) {
         ConversionResult converted = about_file(paths[0], [&] {

@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
-#include <system_error>
 #include <utility>
 
 #include "cli/commands.hpp"
@@ -68,13 +67,12 @@ int run_eigs(Args& args) {
     const std::filesystem::path dir = *out;
 
     JsonObject report;
+    check_output_folder(dir);  // before a conversion and a solve
     const SolverInput input = load_solver_input(path, choices, report);
     const EigenResult result = smallest_eigenpairs(cotan_laplacian(input.triangulation),
                                                    mass_matrix(input.triangulation, choices.mass.type), options);
 
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) throw IoError(dir.string() + ": cannot create the output folder: " + ec.message());
+    make_output_folder(dir);
     write_text_file(dir / "eigenvalues.csv", eigenvalues_csv(result.values));
     write_text_file(dir / "eigenvectors.bin", eigenvectors_bin(result.vectors));
     report.merge(eigen_json(options.k, result));

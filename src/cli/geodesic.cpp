@@ -28,6 +28,7 @@ int run_geodesic(Args& args) {
     const std::vector<int> sources = parse_vertex_list("--source", *source);
 
     JsonObject report;
+    check_mesh_output(*out, /*with_vertex_fields=*/true);  // before a conversion and a solve
     const SolverInput input = load_solver_input(path, choices, report);
     const HeatGeodesics geodesics(input.triangulation, options);
     const auto start = std::chrono::steady_clock::now();

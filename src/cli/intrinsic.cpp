@@ -27,6 +27,7 @@ int run_intrinsic(Args& args) {
 
     const auto start = std::chrono::steady_clock::now();
     const TriangleMesh mesh = read_mesh(path);
+    check_output_folder(dir);
     const IntrinsicResult idt =
         about_file(path, [&] { return intrinsic_delaunay(Triangulation::from_mesh(mesh), options); });
     JsonObject report;

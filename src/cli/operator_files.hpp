@@ -1,6 +1,7 @@
 #pragma once
-// What `sdmesh operators` and `sdmesh intrinsic` share: the --mass option, the Matrix Market
-// files, the operator summary of report.json and its writing (implemented in operators.cpp).
+// What `sdmesh operators` and `sdmesh intrinsic` share (and `sdmesh eigs`, the output folder):
+// the --mass option, the Matrix Market files, the operator summary of report.json and its writing
+// (implemented in operators.cpp).
 
 #include <filesystem>
 
@@ -21,6 +22,13 @@ MassChoice parse_mass(Args& args);
 /// nnz_L, nnz_M, min_star0, min_star1, negative_star0, negative_star1.
 void write_operators(const Triangulation& t, const MassChoice& mass, const std::filesystem::path& dir,
                      JsonObject& report);
+
+/// What creating the output folder `dir` (with its parents) would fail on, checked before the
+/// work: its nearest existing ancestor must be a folder that takes new entries. \throws IoError
+void check_output_folder(const std::filesystem::path& dir);
+
+/// Creates the output folder `dir` with its parents. \throws IoError
+void make_output_folder(const std::filesystem::path& dir);
 
 /// Writes report.json into dir (atomically, see write_text_file) and prints it.
 void write_report(const std::filesystem::path& dir, const JsonObject& report);

@@ -50,6 +50,7 @@ int run_poisson(Args& args) {
     if (!f_path || !out) args.missing("--f and --out are", usage);
 
     JsonObject report;
+    check_mesh_output(*out, /*with_vertex_fields=*/true);  // before a conversion and a solve
     const SolverInput input = load_solver_input(path, choices, report);
     const int n = input.triangulation.num_vertices;
     const Eigen::VectorXd f = read_vertex_values(*f_path, n);
@@ -95,6 +96,7 @@ int run_heat(Args& args) {
         args.missing("--time, --out and one of --u0, --source are", usage);
 
     JsonObject report;
+    check_mesh_output(*out, /*with_vertex_fields=*/true);  // before a conversion and a solve
     const SolverInput input = load_solver_input(path, choices, report);
     const int n = input.triangulation.num_vertices;
     Eigen::VectorXd u0 = Eigen::VectorXd::Zero(n);

@@ -25,6 +25,7 @@ int run_repair(Args& args) {
            "[--keep-nonmanifold] [--keep-orientation] [--keep-caps] [--keep-unreferenced]");
 
     const TriangleMesh mesh = read_mesh(paths[0]);
+    check_mesh_output(paths[1]);
     RepairReport report;
     const TriangleMesh repaired = about_file(paths[0], [&] { return repair(mesh, options, &report); });
     const MeshInfo info = validate(repaired);

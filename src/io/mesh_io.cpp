@@ -158,11 +158,9 @@ TriangleMesh MeshBuilder::finish(ReadReport& report) const {
 
 // ---- OutputFile ------------------------------------------------------------------------------
 
-namespace {
-[[noreturn]] void throw_io(const std::string& file, std::string_view what, int error_number) {
+void throw_io(const std::string& file, std::string_view what, int error_number) {
     throw IoError(file + ": " + std::string(what) + ": " + std::strerror(error_number));
 }
-}  // namespace
 
 OutputFile::OutputFile(const std::filesystem::path& path, bool gzip, std::string name_for_errors)
     : name_(name_for_errors.empty() ? path.string() : std::move(name_for_errors)) {
@@ -346,14 +344,22 @@ bool is_ply_identifier(std::string_view name) {
                        [&](char c) { return is_rest(static_cast<unsigned char>(c)); });
 }
 
-// Everything write_mesh promises to reject before it creates any file.
-void check_writable(const std::string& name, MeshFormat format, const TriangleMesh& mesh,
-                    const WriteOptions& options) {
+// The format write_mesh writes for `path`, or what it rejects about the name alone.
+MeshFormat writable_format(const std::filesystem::path& path, bool with_vertex_fields, bool* compressed) {
+    const MeshFormat format = format_from_path(path, compressed);
+    if (format == MeshFormat::stl) {
+        throw UnsupportedFormatError(path.string() + ": writing STL is not supported (use OBJ, OFF or PLY)");
+    }
+    if (with_vertex_fields && format != MeshFormat::ply) {
+        throw InvalidArgumentError(path.string() + ": vertex fields can only be written to PLY files");
+    }
+    return format;
+}
+
+// Everything else write_mesh promises to reject before it creates any file.
+void check_writable(const std::string& name, const TriangleMesh& mesh, const WriteOptions& options) {
     auto reject = [&](const std::string& what) { throw InvalidArgumentError(name + ": " + what); };
     if (mesh.V.rows() > INT_MAX) reject("too many vertices for int indices");
-    if (!options.vertex_fields.empty() && format != MeshFormat::ply) {
-        reject("vertex fields can only be written to PLY files");
-    }
     for (std::size_t i = 0; i < options.vertex_fields.size(); ++i) {
         const VertexField& field = options.vertex_fields[i];
         if (!is_ply_identifier(field.name) || field.name == "x" || field.name == "y" ||
@@ -388,12 +394,8 @@ void check_writable(const std::string& name, MeshFormat format, const TriangleMe
 void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh,
                 const WriteOptions& options) {
     bool compressed = false;
-    const MeshFormat format = format_from_path(path, &compressed);
-    const std::string name = path.string();
-    if (format == MeshFormat::stl) {
-        throw UnsupportedFormatError(name + ": writing STL is not supported (use OBJ, OFF or PLY)");
-    }
-    check_writable(name, format, mesh, options);
+    const MeshFormat format = writable_format(path, !options.vertex_fields.empty(), &compressed);
+    check_writable(path.string(), mesh, options);
 
     io::write_atomically(path, compressed, [&](io::OutputFile& out) {
         switch (format) {
@@ -407,6 +409,17 @@ void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh,
 
 void write_text_file(const std::filesystem::path& path, std::string_view text) {
     io::write_atomically(path, path.extension() == ".gz", [&](io::OutputFile& out) { out.write(text); });
+}
+
+void check_text_output(const std::filesystem::path& path) {
+    // The temporary file goes beside `path`: its folder must exist and take new files.
+    const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
+    if (::access(folder.c_str(), W_OK | X_OK) != 0) io::throw_io(path.string(), "cannot create file", errno);
+}
+
+void check_mesh_output(const std::filesystem::path& path, bool with_vertex_fields) {
+    writable_format(path, with_vertex_fields, nullptr);
+    check_text_output(path);
 }
 
 }  // namespace sdmesh
