@@ -78,7 +78,7 @@ Eigen::MatrixXd projected(const Eigen::MatrixXd& X, const Sparse& A, const Eigen
 constexpr int kMinEigenMargin = 10;
 
 void check_arguments(const Sparse& L, const Sparse& M, const EigenOptions& options) {
-    detail::check_square_pair(L, M, "eigenpairs");
+    detail::check_operator_pair(L, M, "eigenpairs");
     if (!(options.tolerance > 0))
         throw InvalidArgumentError("eigenpairs: tolerance must be > 0, got " + detail::number_text(options.tolerance));
     if (options.max_iterations < 1)

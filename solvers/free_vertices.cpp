@@ -1,19 +1,37 @@
 #include "free_vertices.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "sdmesh/error.hpp"
+#include "number_text.hpp"
 
 namespace sdmesh::detail {
 
-void check_square_pair(const Sparse& L, const Sparse& M, std::string_view who) {
-    if (L.rows() != L.cols() || M.rows() != M.cols() || L.rows() != M.rows())
-        throw InvalidArgumentError(std::string(who) + ": L is " + std::to_string(L.rows()) + " x " +
-                                   std::to_string(L.cols()) + " and M is " + std::to_string(M.rows()) + " x " +
-                                   std::to_string(M.cols()) + "; both must be square and of the same size");
-}
-
 namespace {
+
+void check_finite_symmetric(const Sparse& A, std::string_view name, std::string_view who) {
+    auto at = [&](Eigen::Index r, Eigen::Index c) {
+        return std::string(name) + "(" + std::to_string(r) + ", " + std::to_string(c) + ")";
+    };
+    double largest = 0;
+    for (Eigen::Index k = 0; k < A.outerSize(); ++k)
+        for (Sparse::InnerIterator it(A, k); it; ++it) {
+            if (!std::isfinite(it.value()))
+                throw InvalidArgumentError(std::string(who) + ": " + at(it.row(), it.col()) + " = " +
+                                           number_text(it.value()) + " is not finite");
+            largest = std::max(largest, std::abs(it.value()));
+        }
+    const Sparse asymmetry = A - Sparse(A.transpose());
+    for (Eigen::Index k = 0; k < asymmetry.outerSize(); ++k)
+        for (Sparse::InnerIterator it(asymmetry, k); it; ++it)
+            if (std::abs(it.value()) > 1e-12 * largest)
+                throw InvalidArgumentError(std::string(who) + ": " + std::string(name) + " is not symmetric: " +
+                                           at(it.row(), it.col()) + " = " + number_text(A.coeff(it.row(), it.col())) +
+                                           " but " + at(it.col(), it.row()) + " = " +
+                                           number_text(A.coeff(it.col(), it.row())));
+}
 
 // Flags of the fixed vertices among n, each checked to be in range and given once.
 std::vector<char> fixed_flags(int n, const std::vector<int>& fixed, std::string_view who) {
@@ -30,6 +48,15 @@ std::vector<char> fixed_flags(int n, const std::vector<int>& fixed, std::string_
 }
 
 }  // namespace
+
+void check_operator_pair(const Sparse& L, const Sparse& M, std::string_view who) {
+    if (L.rows() != L.cols() || M.rows() != M.cols() || L.rows() != M.rows())
+        throw InvalidArgumentError(std::string(who) + ": L is " + std::to_string(L.rows()) + " x " +
+                                   std::to_string(L.cols()) + " and M is " + std::to_string(M.rows()) + " x " +
+                                   std::to_string(M.cols()) + "; both must be square and of the same size");
+    check_finite_symmetric(L, "L", who);
+    check_finite_symmetric(M, "M", who);
+}
 
 VertexSplit VertexSplit::make(int n, const std::vector<int>& fixed, std::string_view who) {
     const std::vector<char> is_fixed = fixed_flags(n, fixed, who);

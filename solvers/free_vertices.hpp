@@ -21,9 +21,10 @@ struct VertexSplit {
     static VertexSplit make(int n, const std::vector<int>& fixed, std::string_view who);
 };
 
-/// \throws InvalidArgumentError (message starting with `who`) L or M is not square, or their
-///         sizes differ.
-void check_square_pair(const Sparse& L, const Sparse& M, std::string_view who);
+/// \throws InvalidArgumentError (message starting with `who`) L or M is not square, their sizes
+///         differ, an entry is not finite, or one is not symmetric (up to 1e-12 of its largest
+///         entry: the solvers read one triangle, and would solve another problem unseen).
+void check_operator_pair(const Sparse& L, const Sparse& M, std::string_view who);
 
 /// Dirichlet vertices imposed without changing the size or pattern of a symmetric matrix, so that
 /// every system on one mesh shares a fill-reducing ordering: the rows and columns of the fixed

@@ -73,7 +73,7 @@ void check_no_free_isolated_vertex(const Sparse& L, const Sparse& M, const std::
 
 PoissonSolver::PoissonSolver(const Sparse& L, const Sparse& M, const std::vector<int>& dirichlet_vertices,
                              const CholeskyOptions& cholesky) {
-    detail::check_square_pair(L, M, "Poisson");
+    detail::check_operator_pair(L, M, "Poisson");
     const int n = static_cast<int>(L.rows());
     int count = 0;
     component_ = detail::connected_components(L, count);
@@ -140,7 +140,7 @@ Eigen::VectorXd PoissonSolver::solve(const Eigen::VectorXd& b, const Eigen::Vect
 
 HeatSolver::HeatSolver(const Sparse& L, const Sparse& M, double t, const std::vector<int>& dirichlet_vertices,
                        const CholeskyOptions& cholesky) {
-    detail::check_square_pair(L, M, "heat");
+    detail::check_operator_pair(L, M, "heat");
     check_time_step(t, "heat");
     check_time_scale(L, M, t);
     const detail::Pins pins(static_cast<int>(L.rows()), dirichlet_vertices, "heat");

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -247,6 +249,42 @@ TEST(Heat, ConservesHeatWithNeumannAndLosesItWithDirichletBoundary) {
     EXPECT_LT((M * dirichlet).sum(), total);
     for (int v : boundary) EXPECT_EQ(dirichlet[v], 0.0);
     EXPECT_GE(dirichlet.minCoeff(), 0.0);  // maximum principle: M-matrix system, non-negative data
+}
+
+// The solvers read one triangle of L and M: an asymmetric or non-finite operator (a user's own,
+// from Python) would solve another problem unseen, or fail far from the cause. Rounding-level
+// asymmetry is accepted.
+TEST(Solvers, RefuseAnAsymmetricOrNonFiniteOperatorByName) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(1));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+    Sparse::InnerIterator entry(L, 0);
+    if (entry.row() == 0) ++entry;  // column 0's first entry off the diagonal
+    const Eigen::Index neighbour = entry.row();
+    ASSERT_NE(L.coeff(neighbour, 0), 0.0);
+    Sparse lopsided = L;
+    lopsided.coeffRef(neighbour, 0) += 0.25;
+    Sparse broken = M;
+    broken.coeffRef(4, 4) = std::nan("");
+    Sparse rounded = L;
+    rounded.coeffRef(neighbour, 0) *= 1 + 1e-15;
+    const std::vector<std::pair<std::string, std::function<void(const Sparse&, const Sparse&)>>> solvers = {
+        {"Poisson", [](const Sparse& l, const Sparse& m) { PoissonSolver(l, m, {0}); }},
+        {"heat", [](const Sparse& l, const Sparse& m) { HeatSolver(l, m, 0.1); }},
+        {"eigenpairs", [](const Sparse& l, const Sparse& m) { (void)smallest_eigenpairs(l, m, {.k = 3}); }},
+    };
+    auto message = [](const auto& run) {
+        try {
+            run();
+        } catch (const InvalidArgumentError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no InvalidArgumentError");
+    };
+    for (const auto& [who, solve] : solvers) {
+        EXPECT_EQ(message([&] { solve(lopsided, M); }).rfind(who + ": L is not symmetric: L(", 0), 0u) << who;
+        EXPECT_EQ(message([&] { solve(L, broken); }), who + ": M(4, 4) = nan is not finite");
+        EXPECT_NO_THROW(solve(rounded, M)) << who;
+    }
 }
 
 TEST(Heat, ArgumentsAreChecked) {

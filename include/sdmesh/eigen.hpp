@@ -97,9 +97,9 @@ struct EigenResult {
 /// With spectra_lanczos, a final Rayleigh–Ritz step on the Ritz vectors makes them M-orthonormal
 /// to rounding; block_lanczos keeps its basis M-orthonormal to ~1e-12 throughout (it corrects
 /// the loss of orthogonality every other step; report.max_orthogonality_error gives ΦᵀMΦ − I).
-/// \throws InvalidArgumentError L, M not square or of different sizes; k < 1 or k >= n; σ >= 0;
-///         a Dirichlet vertex out of range or repeated; tolerance <= 0; max_iterations < 1; a basis size
-///         other than 0 outside (k, n].
+/// \throws InvalidArgumentError L, M not square, of different sizes, not symmetric or not
+///         finite; k < 1 or k >= n; σ >= 0; a Dirichlet vertex out of range or repeated;
+///         tolerance <= 0; max_iterations < 1; a basis size other than 0 outside (k, n].
 /// \throws NumericalError L − σM is not positive definite (M not positive definite, L not
 ///         positive semidefinite).
 EigenResult smallest_eigenpairs(const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M,

@@ -38,8 +38,9 @@ class PoissonSolver {
 public:
     /// Factors L with the Dirichlet vertices (plus one pinned vertex per component without a
     /// Dirichlet vertex) fixed, with the given ordering options.
-    /// \throws InvalidArgumentError L, M not square or of different sizes; a Dirichlet vertex out
-    ///         of range or repeated; as CholeskySolver::analyze for the options.
+    /// \throws InvalidArgumentError L, M not square, of different sizes, not symmetric or not
+    ///         finite; a Dirichlet vertex out of range or repeated; as CholeskySolver::analyze for
+    ///         the options.
     /// \throws NumericalError L on the free vertices is not positive definite (L not positive
     ///         semidefinite; the cotan Laplacian always is); M has no positive entry (no area).
     PoissonSolver(const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M,
