@@ -306,6 +306,11 @@ Operators solver_operators(py::handle first, py::handle second, const std::optio
             throw InvalidArgumentError("mass and intrinsic apply to a mesh (V, F), not to given matrices (L, M)");
         return {sparse_from_scipy(first, "L"), sparse_from_scipy(second, "M")};
     }
+    // Dense matrices would otherwise be read as a mesh and fail on F's integers, which misleads.
+    if (is_sparse(second)) throw py::type_error("V_or_L is not sparse but F_or_M is: pass L and M both as scipy.sparse");
+    if (py::isinstance<py::array>(second) && second.cast<py::array>().dtype().kind() == 'f')
+        throw py::type_error("F_or_M holds floats: a mesh's faces F are integers, and matrices L and M must both be "
+                             "scipy.sparse");
     const MassType type = parse_mass(mass.value_or(kDefaultMass)).type;
     const TriangleMesh mesh = mesh_from_arrays(first, second);
     py::gil_scoped_release unlocked;

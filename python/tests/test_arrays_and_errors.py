@@ -4,6 +4,7 @@ import re
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 import sdmesh
 from conftest import grid, octahedron
@@ -117,6 +118,21 @@ def test_wrong_dtypes_raise_type_error():
         sdmesh.operators(np.full((3, 3), "a"), F)
     with pytest.raises(sdmesh.InvalidArgumentError, match="F has values outside the int32 range"):
         sdmesh.operators(V, F.astype(np.int64) + 2**31)
+
+
+def test_solvers_name_dense_matrices_instead_of_misreading_them_as_a_mesh():
+    V, F = grid(3, 3)
+    L, M = (sdmesh.operators(V, F)[key] for key in ("L", "M"))
+    with pytest.raises(TypeError, match="F_or_M holds floats: a mesh's faces F are integers, and matrices L and M"):
+        sdmesh.eigs(L.toarray(), M.toarray(), k=2)
+    with pytest.raises(TypeError, match="V_or_L is not sparse but F_or_M is"):
+        sdmesh.heat(L.toarray(), M, np.ones(L.shape[0]), 0.1)
+    with pytest.raises(sdmesh.InvalidArgumentError, match=r"eigenpairs: L is not symmetric: L\("):
+        sdmesh.eigs(L + sp.triu(L, 1) * 0.5, M, k=2)
+    broken = sp.csc_matrix(M, copy=True)
+    broken.data[0] = np.nan  # M(0, 0): the barycentric mass is diagonal
+    with pytest.raises(sdmesh.InvalidArgumentError, match=r"Poisson: M\(0, 0\) = nan is not finite"):
+        sdmesh.poisson(L, broken, np.ones(L.shape[0]), dirichlet_vertices=[0], dirichlet_values=[0.0])
 
 
 def test_exception_classes_mirror_the_cpp_hierarchy():
