@@ -8,6 +8,8 @@
 #include <numeric>
 #include <queue>
 #include <string>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -207,57 +209,135 @@ void drop_faces(Eigen::MatrixX3i& F, const std::vector<char>& drop) {
 // a-b-d across that side, the cap and that face become c-a-d and b-c-d, which tile a-b-d: the
 // surface moves by no more than the cap's height (1e-12 of a-b at most). A cap whose side a-b is
 // on the boundary is dropped: a-c and c-b take a-b's place on the boundary, along the same line
-// (not when c is a boundary vertex inside the cap's fan, which would tear c's fan in two). Each
-// pass mends caps whose faces no earlier change of the pass touched; a flip can leave a new cap
-// if d lies on a-b too. Consistently oriented faces expected.
+// (not when c is a boundary vertex inside the cap's fan, which would tear c's fan in two).
+// Consistently oriented faces expected.
 struct MendedCaps {
     int flipped = 0;
     int dropped = 0;
 };
 
+// The faces on each edge while caps are mended: the edge table of the faces before, with the
+// edges that mending changed kept aside (few: about three per cap).
+class CapEdges {
+public:
+    struct Faces {
+        int count = 0;                ///< 1 = boundary, 2 = interior, more = non-manifold
+        std::array<int, 2> face{-1, -1};  ///< the first two
+    };
+
+    CapEdges(const Eigen::MatrixX3i& F, int num_vertices)
+        : table_(build_edge_table(F, num_vertices, NonmanifoldVertices::skip)),
+          on_boundary_(static_cast<size_t>(num_vertices), 0) {
+        for (int e = 0; e < table_.num_edges(); ++e)
+            if (table_.face_count[e] == 1) on_boundary_[table_.E(e, 0)] = on_boundary_[table_.E(e, 1)] = 1;
+    }
+
+    [[nodiscard]] Faces at(int u, int v) const {
+        if (const auto it = changed_.find(key(u, v)); it != changed_.end()) return it->second;
+        const int e = find_edge(table_, u, v);
+        if (e < 0) return {};
+        return {table_.face_count[e], {table_.edge_halfedges(e, 0) / 3, table_.edge_halfedges(e, 1) / 3}};
+    }
+    void set(int u, int v, const Faces& faces) {
+        changed_[key(u, v)] = faces;
+        if (faces.count == 1) on_boundary_[u] = on_boundary_[v] = 1;
+    }
+    /// Edge u-v, which has faces `from` and another, has `to` instead of `from`.
+    void replace(int u, int v, int from, int to) {
+        Faces faces = at(u, v);
+        faces.face[faces.face[0] == from ? 0 : 1] = to;
+        set(u, v, faces);
+    }
+    /// Edge u-v loses face f (one of its two).
+    void remove(int u, int v, int f) {
+        Faces faces = at(u, v);
+        if (faces.face[0] == f) std::swap(faces.face[0], faces.face[1]);
+        faces.face[1] = -1;
+        --faces.count;
+        set(u, v, faces);
+    }
+    [[nodiscard]] bool on_boundary(int v) const { return on_boundary_[v] != 0; }
+
+private:
+    static std::uint64_t key(int u, int v) {
+        return static_cast<std::uint64_t>(std::min(u, v)) << 32 | static_cast<std::uint32_t>(std::max(u, v));
+    }
+    EdgeTable table_;
+    std::unordered_map<std::uint64_t, Faces> changed_;
+    std::vector<char> on_boundary_;
+};
+
+// Mends caps from a work list: a flip can leave a new cap (if d lies on a-b too), and a chain of
+// caps sharing their long sides (a fan of collinear vertices) mends one cap after the other. A cap
+// that cannot be mended yet is tried again after each round that changed something; the flips
+// are bounded, since on collinear vertices they need not end.
 MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
     constexpr double kCapSide = 1e-6;
-    constexpr int kPasses = 8;
-    MendedCaps mended;
-    for (int pass = 0, made = 1; pass < kPasses && made > 0; ++pass) {
-        const EdgeTable table = build_edge_table(F, static_cast<int>(V.rows()), NonmanifoldVertices::skip);
-        std::vector<char> on_boundary(static_cast<size_t>(V.rows()), 0);
-        for (int e = 0; e < table.num_edges(); ++e)
-            if (table.face_count[e] == 1) on_boundary[table.E(e, 0)] = on_boundary[table.E(e, 1)] = 1;
-        std::vector<char> touched(static_cast<size_t>(F.rows()), 0), dropped(static_cast<size_t>(F.rows()), 0);
-        made = 0;
-        for (int f = 0; f < F.rows(); ++f) {
-            double sides[3];
-            if (touched[f] || has_repeated_index(F, f) || !has_zero_area(V, F, f, sides)) continue;
-            const int corner = static_cast<int>(std::max_element(sides, sides + 3) - sides);
-            if (*std::min_element(sides, sides + 3) < kCapSide * sides[corner])
-                continue;  // a needle: two nearly coincident vertices make it flat, no flip mends that
-            const int e = table.face_edge(f, corner);
-            const int c = F(f, corner), a = F(f, (corner + 1) % 3), b = F(f, (corner + 2) % 3);
-            if (e >= 0 && table.face_count[e] == 1) {
-                const int ca = table.face_edge(f, (corner + 2) % 3), cb = table.face_edge(f, (corner + 1) % 3);
-                const bool inside_fan = ca >= 0 && cb >= 0 && table.face_count[ca] == 2 && table.face_count[cb] == 2;
-                if (inside_fan && on_boundary[c]) continue;
-                dropped[f] = touched[f] = 1;
-                on_boundary[c] = 1;  // a-c and c-b are boundary now
-                ++made;
-                ++mended.dropped;
-                continue;
-            }
-            if (e < 0 || table.face_count[e] != 2) continue;
-            const int across = table.edge_halfedges(e, 0) / 3 == f ? table.edge_halfedges(e, 1)
-                                                                    : table.edge_halfedges(e, 0);
-            const int g = across / 3;
-            const int d = F(g, across % 3);
-            if (g == f || touched[g] || d == c || find_edge(table, c, d) >= 0) continue;
-            F.row(f) << c, a, d;
-            F.row(g) << b, c, d;
-            touched[f] = touched[g] = 1;
-            ++made;
-            ++mended.flipped;
-        }
-        drop_faces(F, dropped);
+    std::vector<int> caps;
+    for (int f = 0; f < F.rows(); ++f) {
+        double sides[3];
+        if (!has_repeated_index(F, f) && has_zero_area(V, F, f, sides)) caps.push_back(f);
     }
+    MendedCaps mended;
+    if (caps.empty()) return mended;
+    CapEdges edges(F, static_cast<int>(V.rows()));
+    std::vector<char> dropped(static_cast<size_t>(F.rows()), 0);
+    const long long max_changes = 8 * static_cast<long long>(caps.size()) + 64;
+    long long changes = 0;
+    // Mends face f if it is a cap that can be mended now; returns the faces to look at again.
+    auto mend = [&](int f, std::vector<int>& changed) {
+        double sides[3];
+        if (dropped[f] || !has_zero_area(V, F, f, sides)) return true;
+        const int corner = static_cast<int>(std::max_element(sides, sides + 3) - sides);
+        if (*std::min_element(sides, sides + 3) < kCapSide * sides[corner])
+            return true;  // a needle: two nearly coincident vertices make it flat, no flip mends that
+        const int c = F(f, corner), a = F(f, (corner + 1) % 3), b = F(f, (corner + 2) % 3);
+        const CapEdges::Faces long_side = edges.at(a, b), ca = edges.at(c, a), cb = edges.at(c, b);
+        if (long_side.count == 1) {
+            const bool inside_fan = ca.count == 2 && cb.count == 2;
+            if ((inside_fan && edges.on_boundary(c)) || ca.count > 2 || cb.count > 2) return false;
+            dropped[f] = 1;
+            edges.remove(a, b, f);
+            for (const auto& [u, side] : {std::pair{a, ca}, std::pair{b, cb}}) {
+                edges.remove(c, u, f);
+                if (side.count == 2) changed.push_back(side.face[0] == f ? side.face[1] : side.face[0]);
+            }
+            ++mended.dropped;
+            return true;
+        }
+        if (long_side.count != 2) return true;
+        const int g = long_side.face[0] == f ? long_side.face[1] : long_side.face[0];
+        const int k = F(g, 0) != a && F(g, 0) != b ? 0 : F(g, 1) != a && F(g, 1) != b ? 1 : 2;
+        const int d = F(g, k);
+        if (g == f || d == c || edges.at(c, d).count > 0 || edges.at(a, d).count > 2 || cb.count > 2) return false;
+        F.row(f) << c, a, d;
+        F.row(g) << b, c, d;
+        edges.set(a, b, {});
+        edges.set(c, d, {2, {f, g}});
+        edges.replace(a, d, g, f);
+        edges.replace(c, b, f, g);
+        changed.push_back(f);
+        changed.push_back(g);
+        ++mended.flipped;
+        return true;
+    };
+    std::vector<int> waiting;  // caps that could not be mended yet
+    while (!caps.empty() && changes < max_changes) {
+        const int before = mended.flipped + mended.dropped;
+        std::vector<int> next;
+        for (size_t i = 0; i < caps.size() && changes < max_changes; ++i) {
+            const int f = caps[i];
+            if (!mend(f, next)) waiting.push_back(f);
+            changes = mended.flipped + mended.dropped;
+        }
+        if (changes == before) break;  // nothing left that can be mended
+        next.insert(next.end(), waiting.begin(), waiting.end());
+        waiting.clear();
+        std::sort(next.begin(), next.end());
+        next.erase(std::unique(next.begin(), next.end()), next.end());
+        caps = std::move(next);
+    }
+    drop_faces(F, dropped);
     return mended;
 }
 

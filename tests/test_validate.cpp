@@ -363,6 +363,57 @@ TEST(Repair, FlipsZeroAreaCapsAwayWithoutMovingTheSurface) {
     EXPECT_EQ(needle_report.merged_vertices, 0);
 }
 
+// A fan of caps: n + 1 collinear vertices p0..pn on the x axis, each pair p_i p_i+1 joined to pn
+// by a cap, so that each cap's long side p_i-pn is the next cap's short side. Below, a fan of
+// real faces to (0.5, -1); above, one face p0-pn-(0.5, 1). Each flip mends one cap and leaves
+// the next one's long side facing a real face (cura's deltacomb_dc20.stl has a chain of 17).
+TriangleMesh fan_of_caps(int n, bool with_top) {
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i <= n; ++i) points.emplace_back(static_cast<double>(i) / n, 0, 0);
+    const int below = n + 1, above = n + 2;
+    points.emplace_back(0.5, -1, 0);
+    points.emplace_back(0.5, 1, 0);
+    std::vector<Eigen::Vector3i> faces;
+    for (int i = 0; i < n; ++i) faces.emplace_back(i + 1, i, below);
+    for (int i = 0; i + 1 < n; ++i) faces.emplace_back(i, i + 1, n);  // the caps
+    if (with_top) faces.emplace_back(0, n, above);
+    TriangleMesh mesh;
+    mesh.V.resize(static_cast<int>(points.size()), 3);
+    for (size_t v = 0; v < points.size(); ++v) mesh.V.row(static_cast<int>(v)) = points[v].transpose();
+    mesh.F.resize(static_cast<int>(faces.size()), 3);
+    for (size_t f = 0; f < faces.size(); ++f) mesh.F.row(static_cast<int>(f)) = faces[f].transpose();
+    return mesh;
+}
+
+TEST(Repair, MendsAChainOfCapsInOneCall) {
+    constexpr int n = 41;
+    const TriangleMesh capped = fan_of_caps(n, true);
+    ASSERT_EQ(validate(capped).zero_area_faces, n - 1);
+    ASSERT_EQ(validate(capped).orientation_conflicts, 0);
+    RepairReport report;
+    const TriangleMesh repaired = repair(capped, {}, &report);
+    EXPECT_EQ(report.flipped_caps, n - 1);
+    MeshInfo info = validate(repaired);
+    EXPECT_EQ(info.zero_area_faces, 0);
+    EXPECT_EQ(info.faces, 2 * n);
+    EXPECT_TRUE(info.manifold());
+    EXPECT_EQ(info.orientation_conflicts, 0);
+    EXPECT_EQ(info.boundary_loops, 1);
+    EXPECT_NEAR(total_area(repaired), 1.0, 1e-14);  // each face of the top fan tiles part of p0-pn-top
+    EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
+
+    // Without the top face, the first cap's long side is the boundary: the caps are dropped one
+    // after the other, and p0..pn become the boundary.
+    const TriangleMesh open = repair(fan_of_caps(n, false), {}, &report);
+    EXPECT_EQ(report.dropped_caps, n - 1);
+    info = validate(open);
+    EXPECT_EQ(info.faces, n);
+    EXPECT_EQ(info.zero_area_faces, 0);
+    EXPECT_EQ(info.boundary_edges, n + 2);
+    EXPECT_TRUE(info.manifold());
+    EXPECT_NEAR(total_area(open), 0.5, 1e-15);
+}
+
 TEST(Repair, MergesTheEndsOfASideAsShortAsRounding) {
     // The octahedron with +x doubled 6e-16 away (as exporters round 0 to 5.7e-16), two faces
     // moved onto the copy, and two needles 0-4-6 and 5-0-6 closing the gap.
