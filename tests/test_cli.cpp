@@ -74,7 +74,11 @@ TEST_F(Cli, AConversionThatIsNotCertifiedSaysWhyInOneLine) {
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("not certified (budget_exhausted at 1850 vertices"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--max-vertices"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--method hybrid flips nearly flat folds"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    r = run_cli("convert " + kBunny + " " + path("budget.obj") + " --method hybrid --max-dihedral 0.1 --max-vertices 1850");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("a larger --max-dihedral flips more folds"), std::string::npos) << r.err;
     // An obtuse triangle alone: no flip can make its boundary edge's angle acute.
     const std::string obtuse = write_text("obtuse.obj", "v 0 0 0\nv 2 0 0\nv 1 0.2 0\nf 1 2 3\n");
     r = run_cli("convert " + obtuse + " " + path("flipped.obj") + " --method flip");

@@ -61,11 +61,20 @@ int run_convert(Args& args) {
     const std::string text = json.str() + "\n";
     if (report_path) write_text_file(*report_path, text);
     std::cout << text;
-    if (r.status == ConvertStatus::budget_exhausted)
+    if (r.status == ConvertStatus::budget_exhausted) {
+        // Thin strips of faces beside a fold need points about as far apart as the strip is wide,
+        // whatever the rule (experiments/README.md): flipping nearly flat folds avoids most of them.
+        const char* instead = options.method == ConvertMethod::split
+                                  ? ", and --method hybrid flips nearly flat folds instead of splitting them"
+                              : options.method == ConvertMethod::hybrid
+                                  ? ", and a larger --max-dihedral flips more folds instead of splitting them"
+                                  : "";
         std::cerr << "sdmesh convert: " << paths[1] << ": not certified (budget_exhausted at " << r.output_vertices
                   << " vertices and " << r.flips << " flips, " << r.certificate.non_delaunay_edges
-                  << " non-Delaunay edges left; --max-vertices sets the vertex budget: faces with angles near 0 or "
-                     "180 degrees can need many vertices)\n";
+                  << " non-Delaunay edges left; faces with angles near 0 or 180 degrees can need many vertices: "
+                     "--max-vertices sets the vertex budget"
+                  << instead << ")\n";
+    }
     else if (r.status != ConvertStatus::certified)
         std::cerr << "sdmesh convert: " << paths[1] << ": not certified (" << to_string(r.status) << ", "
                   << r.certificate.non_delaunay_edges << " non-Delaunay edges and "
