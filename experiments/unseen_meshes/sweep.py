@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Converts every mesh that five Debian packages ship, none of them used in development.
+"""Converts every mesh that eight Debian packages ship, none of them used in development.
 
     sweep.py SDMESH OUT [--work DIR] [--jobs N] [--timeout SECONDS] [--no-download]
 
