@@ -200,10 +200,12 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
         const double l = distance(A, P_[b]);
         const Eigen::Vector3d along = (P_[b] - A) / l;
         const int sides = input_face(e, 1) < 0 ? 1 : 2;
+        for (int side = 0; side < sides; ++side) gather(input_face(e, side), e, points[side]);
+        // reach() pairs the points across e, once for each point placed.
+        if (sides == 2 && points[0].size() * points[1].size() > kFewestPointsMaxPairs) return std::nullopt;
         forbidden.clear();
         for (int side = 0; side < sides; ++side) {
             const int f = input_face(e, side);
-            gather(f, e, points[side]);
             for (int k = 0; k < 3; ++k) {
                 const int g = input_edges_.face_edge(f, k);
                 if (g == e) continue;
@@ -228,8 +230,6 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
                 }
             }
         }
-        // reach() pairs the points across e, once for each point placed.
-        if (sides == 2 && points[0].size() * points[1].size() > kFewestPointsMaxPairs) return std::nullopt;
         std::sort(forbidden.begin(), forbidden.end());
         // Each face's points unfolded: distance along e from a, and from e's line.
         for (int side = 0; side < sides; ++side) {
@@ -291,8 +291,13 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
         return placed;
     };
     for (int pass = 0; pass < kFewestPointsPasses; ++pass) {
-        for (const int e : candidates) {
+        for (size_t i = 0; i < candidates.size(); ++i) {
             if (report.status != ConvertStatus::certified) break;
+            if (!trial_ && progress_due())
+                std::fprintf(stderr, "convert: the fewest points per input edge, pass %d of %d, %.0f %% of the edges tried, "
+                             "%lld vertices saved\n", pass + 1, kFewestPointsPasses, 100.0 * static_cast<double>(i) / static_cast<double>(candidates.size()),
+                             report.fewest_points_saved);
+            const int e = candidates[i];
             std::erase_if(on_edge[e], [&](int y) { return removed_[y - input_vertices_] != 0; });
             if (on_edge[e].size() < 2) continue;
             const auto positions = fewest(e, pass % 2);
