@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Converts every mesh that eight Debian packages ship, none of them used in development.
+"""Converts every mesh that nine Debian packages ship, none of them used in development.
 
     sweep.py SDMESH OUT [--work DIR] [--jobs N] [--timeout SECONDS] [--no-download]
 
@@ -11,10 +11,11 @@ tests, broken files included) and openscad-testing-data (OpenSCAD's STL tests):
 
     apt-get install libcgal-demo occt-misc geomview assimp-testmodels openscad-testing-data
 
-and from three packages that are downloaded (`apt-get download`) and unpacked into DIR/debs
-rather than installed, since two of them pull in a desktop: cura (3D printers' beds), prusa-slicer
-(printers' beds and its shape gallery) and minetest-data (a game's models). Without a network,
-or with --no-download, those are left out.
+and from four packages that are downloaded (`apt-get download`) and unpacked into DIR/debs
+rather than installed, since some pull in a desktop: cura (3D printers' beds), prusa-slicer
+(printers' beds and its shape gallery), minetest-data (a game's models) and openfoam-examples
+(the surfaces of OpenFOAM's tutorials, mostly gzipped). Without a network, or with
+--no-download, those are left out.
 
 Each mesh is converted with the default split method and with hybrid at 10°, under a time limit
 (an invalid one again with --repair).
@@ -49,8 +50,15 @@ INSTALLED = (("occt-misc", OCCT_STL), ("geomview", GEOMVIEW), ("assimp-testmodel
              ("openscad-testing-data", OPENSCAD))
 # The packages whose .deb is downloaded and unpacked, and the folder inside it that names a mesh.
 DOWNLOADED = (("cura", "usr/share/cura"), ("prusa-slicer", "usr/share/PrusaSlicer"),
-              ("minetest-data", "usr/share/games/minetest"))
+              ("minetest-data", "usr/share/games/minetest"),
+              ("openfoam-examples", "usr/share/doc/openfoam-examples/examples"))
 MESH_SUFFIXES = (".off", ".obj", ".ply", ".stl")
+
+
+def is_mesh(path):
+    """Whether the file name ends in a mesh format that sdmesh reads, gzipped or not."""
+    name = path.name.lower().removesuffix(".gz")
+    return any(name.endswith(suffix) for suffix in MESH_SUFFIXES)
 METHODS = {"split": [], "hybrid-10": ["--method", "hybrid", "--max-dihedral", "10"]}
 # sdmesh's exit codes (README, "Exit codes"): 0 certified, 1 not certified, 4 unsupported format,
 # 5 malformed file, 6 invalid mesh (non-manifold, inconsistent orientation, zero-area faces).
@@ -83,14 +91,14 @@ def gather_meshes(work, sources):
             with tarfile.open(CGAL_DATA) as archive:
                 for member in archive.getmembers():  # mesh files only, and only below target
                     name = Path(member.name)
-                    if member.isfile() and name.suffix.lower() in MESH_SUFFIXES and not name.is_absolute() \
+                    if member.isfile() and is_mesh(name) and not name.is_absolute() \
                             and ".." not in name.parts:
                         (target / name).parent.mkdir(parents=True, exist_ok=True)
                         (target / name).write_bytes(archive.extractfile(member).read())
-        found += [p for p in target.rglob("*") if p.suffix.lower() in MESH_SUFFIXES]
+        found += [p for p in target.rglob("*") if is_mesh(p)]
     for _, folder in sources:
         if folder.exists():
-            found += [p for p in folder.rglob("*") if p.suffix.lower() in MESH_SUFFIXES]
+            found += [p for p in folder.rglob("*") if is_mesh(p)]
     return sorted(p for p in found if p.is_file())
 
 
