@@ -16,6 +16,7 @@
 #include "cli/commands.hpp"
 #include "cli/solver_input.hpp"
 #include "sdmesh/eigen.hpp"
+#include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/operators.hpp"
 
@@ -69,6 +70,10 @@ int run_eigs(Args& args) {
     JsonObject report;
     check_output_folder(dir);  // before a conversion and a solve
     const SolverInput input = load_solver_input(path, choices, report);
+    if (const int n = input.triangulation.num_vertices; options.k >= n)
+        throw InvalidArgumentError("eigs: -k " + std::to_string(options.k) + " needs a mesh with more than " +
+                                   std::to_string(options.k) + " vertices; " + path + " has " + std::to_string(n) +
+                                   (choices.convert ? " after its conversion" : ""));
     const EigenResult result = smallest_eigenpairs(cotan_laplacian(input.triangulation),
                                                    mass_matrix(input.triangulation, choices.mass.type), options);
 
