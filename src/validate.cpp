@@ -284,7 +284,8 @@ MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
     std::vector<char> dropped(static_cast<size_t>(F.rows()), 0);
     const long long max_changes = 8 * static_cast<long long>(caps.size()) + 64;
     long long changes = 0;
-    // Mends face f if it is a cap that can be mended now; returns the faces to look at again.
+    // Mends face f if it is a cap that can be mended now, adding the faces that changed around
+    // it to `changed`; false for a cap that cannot be mended yet.
     auto mend = [&](int f, std::vector<int>& changed) {
         double sides[3];
         if (dropped[f] || !has_zero_area(V, F, f, sides)) return true;
