@@ -53,16 +53,16 @@ DOWNLOADED = (("cura", "usr/share/cura"), ("prusa-slicer", "usr/share/PrusaSlice
               ("minetest-data", "usr/share/games/minetest"),
               ("openfoam-examples", "usr/share/doc/openfoam-examples/examples"))
 MESH_SUFFIXES = (".off", ".obj", ".ply", ".stl")
+METHODS = {"split": [], "hybrid-10": ["--method", "hybrid", "--max-dihedral", "10"]}
+# sdmesh's exit codes (README, "Exit codes"): 0 certified, 1 not certified, 4 unsupported format,
+# 5 malformed file, 6 invalid mesh (non-manifold, inconsistent orientation, zero-area faces).
+EXPECTED_REFUSALS = {4: "unsupported format", 5: "malformed file", 6: "invalid mesh"}
 
 
 def is_mesh(path):
     """Whether the file name ends in a mesh format that sdmesh reads, gzipped or not."""
     name = path.name.lower().removesuffix(".gz")
     return any(name.endswith(suffix) for suffix in MESH_SUFFIXES)
-METHODS = {"split": [], "hybrid-10": ["--method", "hybrid", "--max-dihedral", "10"]}
-# sdmesh's exit codes (README, "Exit codes"): 0 certified, 1 not certified, 4 unsupported format,
-# 5 malformed file, 6 invalid mesh (non-manifold, inconsistent orientation, zero-area faces).
-EXPECTED_REFUSALS = {4: "unsupported format", 5: "malformed file", 6: "invalid mesh"}
 
 
 def unpack_downloaded(work):
@@ -74,7 +74,7 @@ def unpack_downloaded(work):
         fetched = subprocess.run(["apt-get", "download", *missing], cwd=debs, capture_output=True, text=True)
         if fetched.returncode != 0:
             print(f"sweep.py: apt-get download {' '.join(missing)} failed, leaving them out: "
-                  f"{fetched.stderr.strip().splitlines()[-1:]}", file=sys.stderr)
+                  f"{(fetched.stderr.strip().splitlines() or [''])[-1]}", file=sys.stderr)
         for package in missing:
             for deb in debs.glob(f"{package}_*.deb"):
                 subprocess.run(["dpkg-deb", "-x", str(deb), str(debs / package)], check=True)
