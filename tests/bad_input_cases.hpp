@@ -189,6 +189,7 @@ inline std::vector<BadFile> broken_files() {
          }(), kMalformed},
         // binary STL whose facet count disagrees with its size
         {"facet_count_too_large.stl", binary_stl(square_mesh, 3), kMalformed},
+        {"facet_count_too_large_solid_header.stl", "solid" + binary_stl(square_mesh, 3).substr(5), kMalformed},
     };
     // gzip: a corrupt stream (a flipped byte in the deflate data) and a truncated one, per format
     for (const auto& [extension, bytes] : {std::pair<std::string, std::string>{"obj", obj_vertices + "f 1 2 3\n"},

@@ -1060,6 +1060,32 @@ TEST(Stl, MalformedInputIsParseError) {
     expect_parse_error("solid s\nfacets\n", MeshFormat::stl, "test:2:", "facets");
 }
 
+TEST(Stl, BinaryWithASolidHeaderAndAWrongCountIsParseErrorNotAscii) {
+    // Such a file used to be read as an ascii STL whose "solid" line never ends: no facets.
+    const std::string binary = binary_stl(cube_facets(), "solid cube (but binary)");
+    std::string count_too_large = binary;
+    count_too_large[80] = static_cast<char>(count_too_large[80] + 1);
+    expect_parse_error(count_too_large, MeshFormat::stl, "test: facet 12: ", "truncated");
+    expect_parse_error(binary + std::string(2, '\0'), MeshFormat::stl, "test: ", "declares 12 facets");
+}
+
+TEST(TextFormats, AByteOrderMarkAtTheStartIsSkipped) {
+    const std::string bom = "\xEF\xBB\xBF";
+    const std::vector<std::pair<MeshFormat, std::string>> files = {
+        {MeshFormat::obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
+        {MeshFormat::off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {MeshFormat::ply, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                          "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {MeshFormat::stl, ascii_stl({{0, 0, 0, 1, 0, 0, 0, 1, 0}})},
+    };
+    for (const auto& [format, text] : files) {
+        const TriangleMesh mesh = parse(bom + text, format);
+        EXPECT_TRUE(same_matrix(mesh.F, faces({{0, 1, 2}}))) << text;
+        EXPECT_EQ(mesh.V(1, 0), 1.0) << text;
+    }
+}
+
 // ---- the corpus ------------------------------------------------------------------------------
 
 // Faces in the file, counted the simplest way (the corpus is all-triangle): lines starting with

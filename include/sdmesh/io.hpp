@@ -48,7 +48,9 @@ struct ReadReport {
 /// - PLY: any element order, all property types, other elements and properties (lists too)
 ///   skipped; faces from the `face` element's `vertex_indices` or `vertex_index` list.
 ///   Triangle strips (`tristrips`) are an UnsupportedFormatError rather than silently dropped.
-/// - STL: binary when the size is exactly 84 + 50 n, else ascii if it starts with "solid".
+/// - STL: binary when the size is exactly 84 + 50 n, else ascii if it starts with "solid" and has
+///   no NUL byte, else binary (whose size then does not match: a ParseError).
+/// A UTF-8 byte order mark at the start of a text file (or of a PLY header) is skipped.
 /// Non-finite coordinates (nan, inf) are read as they are; values outside the double range
 /// (1e999) are a ParseError. An empty or all-blank file is a ParseError.
 ///

@@ -3,8 +3,10 @@
 //
 // Binary: an 80-byte header, a uint32 facet count n, then n records of 50 bytes (normal, three
 // float corners, a 2-byte attribute), little endian. A file is binary exactly when its size is
-// 84 + 50 n; otherwise it is ascii if it starts with "solid" (binary headers often start with
-// "solid" too, hence the size test first). Normals are ignored: they are often wrong, and the
+// 84 + 50 n; otherwise it is ascii if it starts with "solid" and has no NUL byte (binary headers
+// often start with "solid" too, hence the size test first; a binary file whose count is wrong
+// still has NULs, and is reported as binary rather than read as an ascii file of no facets).
+// Normals are ignored: they are often wrong, and the
 // corner order defines the orientation.
 
 #include <algorithm>
@@ -67,6 +69,7 @@ private:
 };
 
 bool starts_with_solid(std::string_view bytes) {
+    bytes = without_utf8_bom(bytes);
     const auto first = bytes.find_first_not_of(" \t\r\n");
     if (first == std::string_view::npos || bytes.size() - first < 5) return false;
     std::string word(bytes.substr(first, 5));
@@ -84,7 +87,7 @@ void parse_binary(std::string_view bytes, std::string_view file, MeshBuilder& me
     auto fail = [&](const std::string& what) { throw ParseError(std::string(file) + ": " + what); };
     if (bytes.size() < kHeaderBytes) {
         fail("file too short for a binary STL (" + std::to_string(bytes.size()) +
-             " bytes) and not ascii (no 'solid' at the start)");
+             " bytes) and not ascii ('solid' at the start, no NUL byte)");
     }
     const std::uint32_t n = binary_facet_count(bytes);
     const std::size_t expected = kHeaderBytes + kFacetBytes * std::size_t{n};
@@ -162,7 +165,9 @@ bool is_binary(std::string_view bytes) {
 TriangleMesh parse_stl(std::string_view bytes, std::string_view file, ReadReport& report) {
     MeshBuilder mesh;
     VertexWelder welder(mesh);
-    if (!is_binary(bytes) && starts_with_solid(bytes)) {
+    const bool ascii = !is_binary(bytes) && starts_with_solid(bytes) &&
+                       bytes.find('\0') == std::string_view::npos;
+    if (ascii) {
         parse_ascii(bytes, file, mesh, welder);
     } else {
         parse_binary(bytes, file, mesh, welder);

@@ -16,11 +16,18 @@
 
 namespace sdmesh::io {
 
+/// `text` without a leading UTF-8 byte order mark, which Windows editors and exporters write.
+inline std::string_view without_utf8_bom(std::string_view text) {
+    constexpr std::string_view kBom = "\xEF\xBB\xBF";
+    return text.substr(0, kBom.size()) == kBom ? text.substr(kBom.size()) : text;
+}
+
 class TextScanner {
 public:
     /// `hash_comments`: '#' starts a comment that runs to the end of the line (OBJ, OFF).
+    /// A byte order mark at the start of `text` is skipped.
     TextScanner(std::string_view text, std::string_view file, bool hash_comments)
-        : pos_(text.data()), end_(text.data() + text.size()), file_(file),
+        : pos_(without_utf8_bom(text).data()), end_(text.data() + text.size()), file_(file),
           hash_comments_(hash_comments) {}
 
     [[nodiscard]] bool at_end() const { return pos_ == end_; }
