@@ -477,6 +477,11 @@ TEST(Read, ConcatenatedGzipMembersAreOneFile) {
     write_gzip(dir / "b.gz", "v 0 1 0\nf 1 2 3\n");
     write_bytes(dir / "ab.obj.gz", read_bytes(dir / "a.gz") + read_bytes(dir / "b.gz"));
     EXPECT_EQ(read_mesh(dir / "ab.obj.gz").num_faces(), 1);
+    // Zero padding after the last member is ignored; anything else after it is not gzip data.
+    write_bytes(dir / "padded.obj.gz", read_bytes(dir / "ab.obj.gz") + std::string(512, '\0'));
+    EXPECT_EQ(read_mesh(dir / "padded.obj.gz").num_faces(), 1);
+    write_bytes(dir / "junk.obj.gz", read_bytes(dir / "ab.obj.gz") + std::string(2, '\0') + "junk");
+    EXPECT_THROW(read_mesh(dir / "junk.obj.gz"), ParseError);
 }
 
 // ---- OBJ -------------------------------------------------------------------------------------

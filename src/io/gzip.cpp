@@ -63,8 +63,10 @@ std::string gunzip(std::string_view compressed, std::string_view file) {
         produced += out_before - stream.avail_out;
 
         if (status == Z_STREAM_END) {
-            // Concatenated gzip members form one file (as gzip -d treats them).
-            if (left_in == 0) break;
+            // Concatenated gzip members form one file, and zero bytes after the last member are
+            // padding (tape blocks), as gzip -d and Python's gzip module treat them.
+            const std::string_view rest(reinterpret_cast<const char*>(next_in), left_in);
+            if (rest.find_first_not_of('\0') == std::string_view::npos) break;
             if (inflateReset(&stream) != Z_OK) throw_corrupt(file, stream);
         } else if (status == Z_BUF_ERROR && left_in == 0 && stream.avail_out != 0) {
             throw_corrupt(file, stream);  // truncated: input ended inside the stream
