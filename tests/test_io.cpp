@@ -633,6 +633,16 @@ TEST(Obj, LineContinuationAndForwardReferences) {
     expect_parse_error("v 0 0 0\nf 1 \\\n 1 \\\n x\n", MeshFormat::obj, "test:4:");
 }
 
+TEST(Obj, FacesOfOneOrTwoCornersAreSkippedAndCounted) {
+    // Points and lines that exporters write as `f` (SweetHome3D's furniture has them).
+    ReadReport report;
+    const TriangleMesh mesh =
+        parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\nf 1 2 3\nf 3\nf 2/1 3/1\nf -1 -2\n", MeshFormat::obj, &report);
+    EXPECT_TRUE(same_matrix(mesh.F, faces({{0, 1, 2}})));
+    EXPECT_EQ(report.skipped_line_faces, 4);
+    EXPECT_EQ(report.file_faces, 1);
+}
+
 TEST(Obj, RepeatedAndDuplicateFacesAreKept) {
     const TriangleMesh mesh = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\nf 1 2 3\nf 1 2 3\nf 3 2 1\n",
                                     MeshFormat::obj);
@@ -658,7 +668,7 @@ TEST(Obj, MalformedInputIsParseErrorWithFileAndLine) {
     expect_parse_error(triangle + "f 1 2 4\n", MeshFormat::obj, "test:4:", "4");
     expect_parse_error(triangle + "f 1 2 3\nf 1 2 7\nf 1 2 5\n", MeshFormat::obj, "test:5:", "7");
     expect_parse_error(triangle + "f -1 -2 -4\n", MeshFormat::obj, "test:4:", "-4");
-    expect_parse_error(triangle + "f 1 2\n", MeshFormat::obj, "test:4:", "2 corners");
+    expect_parse_error(triangle + "f 1 9\n", MeshFormat::obj, "test:4:", "9");  // a line's indices too
     expect_parse_error(triangle + "f\n", MeshFormat::obj, "test:4:", "0 corners");
     expect_parse_error(triangle + "f 1 2 x\n", MeshFormat::obj, "test:4:", "'x'");
     expect_parse_error(triangle + "f 1 2 3x\n", MeshFormat::obj, "test:4:");

@@ -34,6 +34,7 @@ struct ReadReport {
     long long polygon_triangles = 0;///< triangles made from those polygons
     long long ear_clipped_polygons = 0; ///< polygons whose fan would fold over: ear clipped
     long long welded_vertices = 0;  ///< STL only: file vertices merged with an earlier equal one
+    long long skipped_line_faces = 0; ///< OBJ only: `f` of 1 or 2 corners (points, lines), skipped
 };
 
 /// Reads a mesh file.
@@ -42,7 +43,8 @@ struct ReadReport {
 /// - OBJ: `v x y z [w]` (w and vertex colors ignored), `f`/`fo` with corners `v`, `v/vt`, `v//vn`,
 ///   `v/vt/vn`; negative indices are relative to the vertices defined so far; a positive index may
 ///   refer to a vertex defined further down. Other keywords, comments, CRLF and backslash line
-///   continuations are fine.
+///   continuations are fine. An `f` of one or two corners (a point or a line written as a face)
+///   is skipped and counted in ReadReport::skipped_line_faces.
 /// - OFF: [ST][C][N]OFF, counts on the keyword line or the next one, `#` comments and blank lines
 ///   anywhere, extra values (colors, normals) after vertices and faces ignored.
 /// - PLY: any element order, all property types, other elements and properties (lists too)

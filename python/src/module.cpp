@@ -427,7 +427,7 @@ Raises UnsupportedFormatError, InvalidArgumentError, IoError.)");
           R"(check(V, F, boundary="strict", tolerance=1e-10) -> dict
 
 Validation and Delaunay certificate of a mesh: the keys of `sdmesh check --json` except those about
-the file (file, file_faces, polygons, ear_clipped_polygons). boundary: "strict" or "free"; tolerance in radians.
+the file (file, file_faces, polygons, ear_clipped_polygons, skipped_line_faces). boundary: "strict" or "free"; tolerance in radians.
 report["self_delaunay"] is the verdict. Raises InvalidMeshError (index out of range, non-finite).)");
 
     const RepairOptions repair_defaults;

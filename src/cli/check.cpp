@@ -45,6 +45,10 @@ int run_info(Args& args) {
     std::printf("%s\n", path.c_str());
     std::printf("  faces in file       %lld (%lld polygons -> %lld triangles, %lld of them ear clipped)\n",
                 in.read.file_faces, in.read.polygons, in.read.polygon_triangles, in.read.ear_clipped_polygons);
+    if (in.read.skipped_line_faces > 0) {
+        std::printf("  skipped             %lld faces of 1 or 2 corners (points and lines)\n",
+                    in.read.skipped_line_faces);
+    }
     std::printf("  vertices            %d referenced, %d unreferenced, %d non-finite, %d duplicate positions\n",
                 i.vertices, i.unreferenced_vertices, i.non_finite_vertices, i.duplicate_vertex_positions);
     std::printf("  faces               %d (%d repeated index, %d zero area, %d duplicates)\n", i.faces,

@@ -76,7 +76,8 @@ JsonObject read_report_json(const ReadReport& read) {
     JsonObject json;
     json.add("file_faces", read.file_faces)
         .add("polygons", read.polygons)
-        .add("ear_clipped_polygons", read.ear_clipped_polygons);
+        .add("ear_clipped_polygons", read.ear_clipped_polygons)
+        .add("skipped_line_faces", read.skipped_line_faces);
     return json;
 }
 

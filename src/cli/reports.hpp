@@ -41,7 +41,8 @@ std::string_view to_string(BoundaryPolicy policy);
 /// The validation keys of `sdmesh check --json` (vertices ... non_finite_vertices).
 JsonObject mesh_info_json(const MeshInfo& info);
 
-/// What `sdmesh check --json` adds about the file: file_faces, polygons, ear_clipped_polygons.
+/// What `sdmesh check --json` adds about the file: file_faces, polygons, ear_clipped_polygons,
+/// skipped_line_faces.
 JsonObject read_report_json(const ReadReport& read);
 
 /// What `sdmesh repair` did (merged_vertices ... dropped_vertices) and what came of it

@@ -1,7 +1,9 @@
 // Wavefront OBJ: `v x y z [w]` and `f` (also the old `fo`) lines; every other keyword is ignored
 // (a keyword with control characters means binary data: a ParseError).
 //
-// Face corners are `v`, `v/vt`, `v//vn` or `v/vt/vn`; only v is kept. Indices start at 1;
+// Face corners are `v`, `v/vt`, `v//vn` or `v/vt/vn`; only v is kept. A face of one or two corners
+// is a point or a line that an exporter wrote as `f` (3ds converters do): its indices are checked,
+// and it is skipped and counted. A face of no corners is a ParseError. Indices start at 1;
 // negative ones count back from the last vertex defined so far. A positive index may refer to a
 // vertex defined further down the file, so it is checked against the final vertex count.
 
@@ -35,7 +37,9 @@ public:
             in_.next_line();  // also skips `w`, vertex colors and every other keyword
         }
         check_forward_indices();
-        return mesh_.finish(report);
+        TriangleMesh mesh = mesh_.finish(report);
+        report.skipped_line_faces = skipped_line_faces_;
+        return mesh;
     }
 
 private:
@@ -58,9 +62,8 @@ private:
             if (in_.at_line_end()) break;
             corners_.push_back(vertex_index(in_.token()));
         }
-        if (!mesh_.add_face(corners_)) {
-            in_.fail("face with " + std::to_string(corners_.size()) + " corners (needs 3 or more)");
-        }
+        if (corners_.empty()) in_.fail("face with 0 corners (needs 3 or more)");
+        if (!mesh_.add_face(corners_)) ++skipped_line_faces_;
     }
 
     // The 0-based vertex of one corner token "v[/vt][/vn]".
@@ -102,6 +105,7 @@ private:
     std::vector<int> corners_;    // reused for every face
     long long max_index_ = 0;     // largest positive index seen, and where
     long long max_index_line_ = 0;
+    long long skipped_line_faces_ = 0;
 };
 
 }  // namespace
