@@ -144,6 +144,24 @@ TriangleMesh noisy_shaft(int sides, int rows, double length, bool zigzag, double
     return mesh;
 }
 
+// An open fan of n spokes of length 1 ± noise whose rim zigzags up and down by `pleat` (a
+// crimped disk, as in a toilet-paper dispenser of SweetHome3D's furniture): every face is a plane
+// of its own, with a corner of 360°/n at the apex, and the noise makes some spokes non-Delaunay.
+TriangleMesh pleated_fan(int n, double pleat, double noise, unsigned seed) {
+    std::mt19937 generator(seed);
+    auto jitter = [&] { return noise * (2.0 * static_cast<double>(generator()) / std::mt19937::max() - 1.0); };
+    TriangleMesh fan;
+    fan.V.resize(n + 1, 3);
+    fan.F.resize(n, 3);
+    fan.V.row(n) << 0, 0, 0;
+    for (int i = 0; i < n; ++i) {
+        const double angle = 2 * std::numbers::pi * i / n, radius = 1 + jitter();
+        fan.V.row(i) << radius * std::cos(angle), radius * std::sin(angle), i % 2 == 0 ? pleat : -pleat;
+        fan.F.row(i) << n, i, (i + 1) % n;
+    }
+    return fan;
+}
+
 TriangleMesh adversarial(const std::string& name) {
     if (name == "skewed_grid") return bumpy(make_grid(12, 10, 1.0, 1.0, 2.5), 0.05);
     if (name == "needle_band") return bumpy(make_grid(40, 2, 4.0, 0.01), 0.3);  // sides 0.1 x 0.005
@@ -167,6 +185,7 @@ TriangleMesh adversarial(const std::string& name) {
     }
     if (name == "small_angles") return needle_cone(90);
     if (name == "strip_cylinder") return strip_cylinder(40, 37, 2.0);
+    if (name == "pleated_fan") return pleated_fan(64, 0.03, 0.01, 1);
     if (name == "improper_idt") {
         // ALGORITHMS.md §7 (Ye et al. 2020, Fig. 2): its intrinsic Delaunay triangulation has a
         // self-loop, so no self-Delaunay mesh exists on these vertices alone.
@@ -272,7 +291,7 @@ TEST_P(ConvertSplit, MovesNothing) {
 std::vector<Case> cases() {
     std::vector<Case> all;
     for (const char* mesh : {"skewed_grid", "needle_band", "cap_band", "valence3", "cocircular", "small_angles",
-                             "improper_idt", "strip_cylinder", "bunny"}) {
+                             "improper_idt", "strip_cylinder", "pleated_fan", "bunny"}) {
         all.push_back({mesh, {}, "split_interval"});
         all.push_back({mesh, {.split_rule = SplitRule::shell}, "split_shell"});
         for (int degrees : {5, 10, 20})
@@ -732,6 +751,20 @@ TEST(ConvertMethods, ANeedleFanConvertsWithinItsBudget) {
         EXPECT_LT(result.mesh.num_vertices() - cone.num_vertices(), 200 * result.report.input_nonflat_non_delaunay_edges)
             << to_string(rule);
     }
+}
+
+// Interval points on the spokes of a pleated fan marched towards its apex, each ring out of
+// step with the last, to points 1e-15 from it: 20,000-35,000 vertices and no certificate for
+// 48 and 64 spokes (corners of 7.5° and 5.6°, above the thin corners that take shells). Pieces
+// 64 times shorter than their spoke now take the shells, which close the rings: 4-1,469 added.
+TEST(ConvertMethods, APleatedFanEndsOnShellsAroundItsApex) {
+    for (const int spokes : {48, 64, 96})
+        for (unsigned seed = 1; seed <= 3; ++seed) {
+            const TriangleMesh fan = pleated_fan(spokes, 0.03, 0.01, seed);
+            const ConversionReport r = convert(fan).report;
+            EXPECT_EQ(r.status, ConvertStatus::certified) << spokes << " spokes, seed " << seed;
+            EXPECT_LE(r.output_vertices - r.input_vertices, 20 * spokes) << spokes << " spokes, seed " << seed;
+        }
 }
 
 // Local search only takes what pays: fewer vertices or none saved, never more, and the same

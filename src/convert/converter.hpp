@@ -44,6 +44,9 @@ constexpr double kPi = std::numbers::pi;
 // Pieces of an input edge shorter than this fraction of it, with one end at an input vertex, are
 // split on Ruppert's shells (see split_distance).
 constexpr double kShellPieceFraction = 0.25;
+// Pieces this much shorter than their input edge, with one end at an input vertex, are a cascade
+// converging on that vertex: they always take the shells, which end it (see split_distance).
+constexpr double kConvergingPieceFraction = 1.0 / 64;
 // Split points next to a plane with more points than this are not removed (quadratic work).
 constexpr int kMaxPlanePoints = 2048;
 // Interval points stay this fraction of the piece away from its ends, so that piece lengths
