@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Converts every mesh that nine Debian packages ship, none of them used in development.
+"""Converts every mesh that ten Debian packages ship, none of them used in development.
 
     sweep.py SDMESH OUT [--work DIR] [--jobs N] [--timeout SECONDS] [--no-download]
 
@@ -11,11 +11,12 @@ tests, broken files included) and openscad-testing-data (OpenSCAD's STL tests):
 
     apt-get install libcgal-demo occt-misc geomview assimp-testmodels openscad-testing-data
 
-and from four packages that are downloaded (`apt-get download`) and unpacked into DIR/debs
+and from five packages that are downloaded (`apt-get download`) and unpacked into DIR/debs
 rather than installed, since some pull in a desktop: cura (3D printers' beds), prusa-slicer
-(printers' beds and its shape gallery), minetest-data (a game's models) and openfoam-examples
-(the surfaces of OpenFOAM's tutorials, mostly gzipped). Without a network, or with
---no-download, those are left out.
+(printers' beds and its shape gallery), minetest-data (a game's models), openfoam-examples
+(the surfaces of OpenFOAM's tutorials, mostly gzipped) and sweethome3d-furniture (820 OBJ models
+of furniture, plants and people, in zip archives that are unpacked too). Without a network, or
+with --no-download, those are left out.
 
 Each mesh is converted with the default split method and with hybrid at 10°, under a time limit
 (an invalid one again with --repair).
@@ -38,6 +39,7 @@ import sys
 import tarfile
 import tempfile
 import time
+import zipfile
 from pathlib import Path
 
 CGAL_DATA = Path("/usr/share/doc/libcgal-dev/data.tar.gz")
@@ -51,7 +53,8 @@ INSTALLED = (("occt-misc", OCCT_STL), ("geomview", GEOMVIEW), ("assimp-testmodel
 # The packages whose .deb is downloaded and unpacked, and the folder inside it that names a mesh.
 DOWNLOADED = (("cura", "usr/share/cura"), ("prusa-slicer", "usr/share/PrusaSlicer"),
               ("minetest-data", "usr/share/games/minetest"),
-              ("openfoam-examples", "usr/share/doc/openfoam-examples/examples"))
+              ("openfoam-examples", "usr/share/doc/openfoam-examples/examples"),
+              ("sweethome3d-furniture", "usr/share/sweethome3d/furniture"))
 MESH_SUFFIXES = (".off", ".obj", ".ply", ".stl")
 METHODS = {"split": [], "hybrid-10": ["--method", "hybrid", "--max-dihedral", "10"]}
 # sdmesh's exit codes (README, "Exit codes"): 0 certified, 1 not certified, 4 unsupported format,
@@ -63,6 +66,16 @@ def is_mesh(path):
     """Whether the file name ends in a mesh format that sdmesh reads, gzipped or not."""
     name = path.name.lower().removesuffix(".gz")
     return any(name.endswith(suffix) for suffix in MESH_SUFFIXES)
+
+
+def extract_meshes(archive, names, target):
+    """Writes the mesh files among `names` of an open tar or zip archive below target, once."""
+    for name in names:
+        path = Path(name)
+        if is_mesh(path) and not path.is_absolute() and ".." not in path.parts and not (target / path).exists():
+            (target / path).parent.mkdir(parents=True, exist_ok=True)
+            data = archive.extractfile(name).read() if isinstance(archive, tarfile.TarFile) else archive.read(name)
+            (target / path).write_bytes(data)
 
 
 def unpack_downloaded(work):
@@ -79,6 +92,9 @@ def unpack_downloaded(work):
             for deb in debs.glob(f"{package}_*.deb"):
                 subprocess.run(["dpkg-deb", "-x", str(deb), str(debs / package)], check=True)
                 deb.unlink()
+            for furniture in (debs / package).rglob("*.sh3f"):  # SweetHome3D's zip archives
+                with zipfile.ZipFile(furniture) as archive:
+                    extract_meshes(archive, archive.namelist(), furniture.with_suffix(""))
     return [(package, debs / package / inside) for package, inside in DOWNLOADED if (debs / package).exists()]
 
 
@@ -88,13 +104,8 @@ def gather_meshes(work, sources):
     if CGAL_DATA.exists():
         target = work / "meshes"
         if not target.exists():
-            with tarfile.open(CGAL_DATA) as archive:
-                for member in archive.getmembers():  # mesh files only, and only below target
-                    name = Path(member.name)
-                    if member.isfile() and is_mesh(name) and not name.is_absolute() \
-                            and ".." not in name.parts:
-                        (target / name).parent.mkdir(parents=True, exist_ok=True)
-                        (target / name).write_bytes(archive.extractfile(member).read())
+            with tarfile.open(CGAL_DATA) as archive:  # mesh files only, and only below target
+                extract_meshes(archive, [m.name for m in archive.getmembers() if m.isfile()], target)
         found += [p for p in target.rglob("*") if is_mesh(p)]
     for _, folder in sources:
         if folder.exists():
