@@ -34,7 +34,7 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     // Interval points can march towards an input vertex for ever, each out of step with the
     // last on the next edge (a pleated fan of 64 slightly noisy spokes, 5.6° apart: 55,336
     // vertices, the points 1e-15 from the apex); shells there close the rings.
-    if (near_input_vertex && l < kConvergingPieceFraction * input_length_[on_input_edge])
+    if (near_input_vertex && on_input_edge >= 0 && l < kConvergingPieceFraction * input_length_[on_input_edge])
         return shell_distance(k, l);
     // Hard constraint: I0, where both halves are locally Delaunay.
     const Interval halves = delaunay_halves_interval(k, l);

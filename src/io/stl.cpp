@@ -6,8 +6,7 @@
 // 84 + 50 n; otherwise it is ascii if it starts with "solid" and has no NUL byte (binary headers
 // often start with "solid" too, hence the size test first; a binary file whose count is wrong
 // still has NULs, and is reported as binary rather than read as an ascii file of no facets).
-// Normals are ignored: they are often wrong, and the
-// corner order defines the orientation.
+// Normals are ignored: they are often wrong, and the corner order defines the orientation.
 
 #include <algorithm>
 #include <array>
