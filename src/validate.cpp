@@ -49,12 +49,54 @@ std::vector<int> coincident_representatives(const Eigen::MatrixX3d& V,
     return representative;
 }
 
-// representative[v] = the smallest-index vertex v is merged with: vertices at exactly one position
-// (among `mask`), and the two ends of a face side shorter than kRoundingSide of the bounding-box
-// diagonal of those vertices, which are one point up to an exporter's rounding (0 and 5.7e-16).
-std::vector<int> merge_representatives(const TriangleMesh& mesh, const std::vector<char>& mask) {
+// Whether face f (with three distinct indices) has zero area: at most 1e-12 of its longest side
+// squared. The area is the cross product of two sides scaled by the longest (no overflow at
+// 1e150). From the side lengths, a cap 8e8 long whose apex lay 1e-9 of that off the long side
+// came out as exactly 0 (its short sides summed to the long one in rounding), and repair flipped
+// it, moving the surface. Returns its side lengths, side k opposite corner k, in `sides`.
+bool has_zero_area(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int f, double (&sides)[3]) {
+    Eigen::Vector3d p[3];
+    for (int k = 0; k < 3; ++k) p[k] = V.row(F(f, k)).transpose();
+    for (int k = 0; k < 3; ++k) sides[k] = distance(p[(k + 1) % 3], p[(k + 2) % 3]);
+    const double longest = std::max({sides[0], sides[1], sides[2]});
+    if (!std::isfinite(longest)) return false;
+    if (longest == 0) return true;
+    const Eigen::Vector3d u = (p[1] - p[0]) / longest, v = (p[2] - p[0]) / longest;
+    return 0.5 * u.cross(v).norm() <= 1e-12;
+}
+
+// A zero-area face whose shortest side is below kNeedleSide of its longest is a needle: two of its
+// vertices nearly coincide, so no flip mends it (its ends are merged instead); any other is a cap,
+// with a vertex inside its longest side.
+constexpr double kNeedleSide = 1e-6;
+
+// The corner opposite the short side of face f if it is a needle, else -1.
+int needle_corner(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int f) {
+    double sides[3];
+    if (!has_zero_area(V, F, f, sides)) return -1;
+    const auto [shortest, longest] = std::minmax_element(sides, sides + 3);
+    return *shortest < kNeedleSide * *longest ? static_cast<int>(shortest - sides) : -1;
+}
+
+struct Merges {
+    std::vector<int> representative;  ///< the smallest-index vertex each vertex is merged with
+    int needle_sides = 0;             ///< merges that only needles asked for
+};
+
+// With `coincident`, merges the vertices at exactly one position (among `mask`), and the two ends
+// of a face side shorter than kRoundingSide of the bounding-box diagonal of those vertices, which
+// are one point up to an exporter's rounding (0 and 5.7e-16); with `needles`, the two ends of
+// each needle's short side.
+Merges merge_representatives(const TriangleMesh& mesh, const std::vector<char>& mask, bool coincident, bool needles) {
     constexpr double kRoundingSide = 1e-12;
-    std::vector<int> representative = coincident_representatives(mesh.V, mask);
+    Merges merges;
+    std::vector<int>& representative = merges.representative;
+    if (coincident) {
+        representative = coincident_representatives(mesh.V, mask);
+    } else {
+        representative.resize(static_cast<size_t>(mesh.num_vertices()));
+        std::iota(representative.begin(), representative.end(), 0);
+    }
     Eigen::RowVector3d low = Eigen::RowVector3d::Constant(HUGE_VAL), high = -low;
     for (int v = 0; v < mesh.num_vertices(); ++v)
         if (mask[v] && mesh.V.row(v).allFinite()) {
@@ -62,22 +104,30 @@ std::vector<int> merge_representatives(const TriangleMesh& mesh, const std::vect
             high = high.cwiseMax(mesh.V.row(v));
         }
     const double shortest = kRoundingSide * (high - low).stableNorm();
-    if (!(shortest > 0) || !std::isfinite(shortest)) return representative;
+    const bool rounding = coincident && shortest > 0 && std::isfinite(shortest);
     UnionFind sets(mesh.num_vertices());
     bool merged = false;
-    for (int f = 0; f < mesh.num_faces(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const int a = representative[mesh.F(f, k)], b = representative[mesh.F(f, (k + 1) % 3)];
-            if (a != b && (mesh.V.row(a) - mesh.V.row(b)).norm() <= shortest) merged |= sets.unite(a, b);
-        }
-    if (!merged) return representative;
+    if (rounding)
+        for (int f = 0; f < mesh.num_faces(); ++f)
+            for (int k = 0; k < 3; ++k) {
+                const int a = representative[mesh.F(f, k)], b = representative[mesh.F(f, (k + 1) % 3)];
+                if (a != b && (mesh.V.row(a) - mesh.V.row(b)).norm() <= shortest) merged |= sets.unite(a, b);
+            }
+    if (needles)
+        for (int f = 0; f < mesh.num_faces(); ++f)
+            if (const int k = needle_corner(mesh.V, mesh.F, f); k >= 0 && sets.unite(representative[mesh.F(f, (k + 1) % 3)],
+                                                                                      representative[mesh.F(f, (k + 2) % 3)])) {
+                merged = true;
+                ++merges.needle_sides;
+            }
+    if (!merged) return merges;
     std::vector<int> smallest(representative.size(), INT_MAX);
     for (int v = 0; v < mesh.num_vertices(); ++v) {
         int& s = smallest[static_cast<size_t>(sets.find(representative[v]))];
         s = std::min(s, v);
     }
     for (int v = 0; v < mesh.num_vertices(); ++v) representative[v] = smallest[static_cast<size_t>(sets.find(representative[v]))];
-    return representative;
+    return merges;
 }
 
 // Faces whose vertex set equals that of an earlier face. The faces are bucketed by their
@@ -165,22 +215,6 @@ Orientation orient_faces(const Eigen::MatrixX3i& F, const EdgeTable& edges) {
     return result;
 }
 
-// Whether face f (with three distinct indices) has zero area: at most 1e-12 of its longest side
-// squared. The area is the cross product of two sides scaled by the longest (no overflow at
-// 1e150). From the side lengths, a cap 8e8 long whose apex lay 1e-9 of that off the long side
-// came out as exactly 0 (its short sides summed to the long one in rounding), and repair flipped
-// it, moving the surface. Returns its side lengths, side k opposite corner k, in `sides`.
-bool has_zero_area(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int f, double (&sides)[3]) {
-    Eigen::Vector3d p[3];
-    for (int k = 0; k < 3; ++k) p[k] = V.row(F(f, k)).transpose();
-    for (int k = 0; k < 3; ++k) sides[k] = distance(p[(k + 1) % 3], p[(k + 2) % 3]);
-    const double longest = std::max({sides[0], sides[1], sides[2]});
-    if (!std::isfinite(longest)) return false;
-    if (longest == 0) return true;
-    const Eigen::Vector3d u = (p[1] - p[0]) / longest, v = (p[2] - p[0]) / longest;
-    return 0.5 * u.cross(v).norm() <= 1e-12;
-}
-
 // The edge u-v of the table, -1 if there is none (the rows are sorted; a plain bisection, since
 // clang 14, which builds the fuzzers, cannot compile libstdc++ 12's ranges).
 int find_edge(const EdgeTable& table, int u, int v) {
@@ -205,15 +239,17 @@ void drop_faces(Eigen::MatrixX3i& F, const std::vector<char>& drop) {
 }
 
 // A cap is a zero-area face whose third vertex c lies inside its longest side a-b, away from both
-// ends (its shorter sides are at least kCapSide of a-b, far longer than its height). With the face
-// a-b-d across that side, the cap and that face become c-a-d and b-c-d, which tile a-b-d: the
-// surface moves by no more than the cap's height (1e-12 of a-b at most). A cap whose side a-b is
-// on the boundary is dropped: a-c and c-b take a-b's place on the boundary, along the same line
-// (not when c is a boundary vertex inside the cap's fan, which would tear c's fan in two).
-// Consistently oriented faces expected.
+// ends (it is not a needle: its shorter sides are at least kNeedleSide of a-b, far longer than its
+// height). With the face a-b-d across that side, the cap and that face become c-a-d and b-c-d,
+// which tile a-b-d: the surface moves by no more than the cap's height (1e-12 of a-b at most). A
+// cap whose side a-b is on the boundary is dropped: a-c and c-b take a-b's place on the boundary,
+// along the same line. When c is a boundary vertex inside the cap's fan, that tears c's fan in two
+// (`may_tear`: the caller gives each part its own copy of c). Consistently oriented faces expected.
 struct MendedCaps {
     int flipped = 0;
     int dropped = 0;
+    int torn = 0;  ///< of the dropped, those that tore their c's fan
+    int left = 0;  ///< zero-area faces left
 };
 
 // The faces on each edge while caps are mended: the edge table of the faces before, with the
@@ -271,8 +307,7 @@ private:
 // caps sharing their long sides (a fan of collinear vertices) mends one cap after the other. A cap
 // that cannot be mended yet is tried again after each round that changed something; the flips
 // are bounded, since on collinear vertices they need not end.
-MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
-    constexpr double kCapSide = 1e-6;
+MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F, bool may_tear) {
     std::vector<int> caps;
     for (int f = 0; f < F.rows(); ++f) {
         double sides[3];
@@ -290,13 +325,13 @@ MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
         double sides[3];
         if (dropped[f] || !has_zero_area(V, F, f, sides)) return true;
         const int corner = static_cast<int>(std::max_element(sides, sides + 3) - sides);
-        if (*std::min_element(sides, sides + 3) < kCapSide * sides[corner])
-            return true;  // a needle: two nearly coincident vertices make it flat, no flip mends that
+        if (*std::min_element(sides, sides + 3) < kNeedleSide * sides[corner]) return true;  // a needle
         const int c = F(f, corner), a = F(f, (corner + 1) % 3), b = F(f, (corner + 2) % 3);
         const CapEdges::Faces long_side = edges.at(a, b), ca = edges.at(c, a), cb = edges.at(c, b);
         if (long_side.count == 1) {
-            const bool inside_fan = ca.count == 2 && cb.count == 2;
-            if ((inside_fan && edges.on_boundary(c)) || ca.count > 2 || cb.count > 2) return false;
+            const bool tears = ca.count == 2 && cb.count == 2 && edges.on_boundary(c);
+            if ((tears && !may_tear) || ca.count > 2 || cb.count > 2) return false;
+            mended.torn += tears;
             dropped[f] = 1;
             edges.remove(a, b, f);
             for (const auto& [u, side] : {std::pair{a, ca}, std::pair{b, cb}}) {
@@ -339,6 +374,10 @@ MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
         caps = std::move(next);
     }
     drop_faces(F, dropped);
+    for (int f = 0; f < F.rows(); ++f) {
+        double sides[3];
+        mended.left += !has_repeated_index(F, f) && has_zero_area(V, F, f, sides);
+    }
     return mended;
 }
 
@@ -531,38 +570,50 @@ TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, Repa
     RepairReport counts;
     TriangleMesh out = mesh;
 
-    if (options.merge_coincident_vertices) {
-        const std::vector<int> representative = merge_representatives(out, referenced_vertices(out));
-        for (int v = 0; v < out.num_vertices(); ++v) counts.merged_vertices += representative[v] != v;
-        for (int f = 0; f < out.num_faces(); ++f)
-            for (int k = 0; k < 3; ++k) out.F(f, k) = representative[out.F(f, k)];
-    }
+    // A cap's flip can make needles (its apex and the vertex across its long side may be copies of
+    // one split vertex, or nearly one point), and mending stops at a budget of flips: while a pass
+    // leaves fewer zero-area faces than the one before, the steps run again, merging needles only.
+    constexpr int kMaxPasses = 8;
+    for (int pass = 0, zero_area_before = INT_MAX; pass < kMaxPasses; ++pass) {
+        const bool coincident = pass == 0 && options.merge_coincident_vertices;
+        if (coincident || options.collapse_needles) {
+            const Merges merges = merge_representatives(out, referenced_vertices(out), coincident, options.collapse_needles);
+            const std::vector<int>& representative = merges.representative;
+            for (int v = 0; v < out.num_vertices(); ++v) counts.merged_vertices += representative[v] != v;
+            counts.collapsed_needles += merges.needle_sides;
+            counts.merged_vertices -= merges.needle_sides;
+            for (int f = 0; f < out.num_faces(); ++f)
+                for (int k = 0; k < 3; ++k) out.F(f, k) = representative[out.F(f, k)];
+        }
 
-    if (options.drop_repeated_index_faces) {
-        std::vector<char> drop(out.num_faces());
-        for (int f = 0; f < out.num_faces(); ++f) drop[f] = has_repeated_index(out.F, f);
-        counts.dropped_repeated_index_faces = static_cast<int>(std::count(drop.begin(), drop.end(), 1));
-        drop_faces(out.F, drop);
-    }
-    if (options.drop_duplicate_faces) {
-        const std::vector<char> drop = duplicate_faces(out.F, out.num_vertices());
-        counts.dropped_duplicate_faces = static_cast<int>(std::count(drop.begin(), drop.end(), 1));
-        drop_faces(out.F, drop);
-    }
-    if (options.split_nonmanifold_vertices) counts.split_vertices = split_nonmanifold_vertices(out);
-    if (options.orient) {
-        const Orientation orientation = orient_faces(out.F, build_edge_table(out.F, out.num_vertices()));
-        counts.non_orientable_components = orientation.non_orientable_components;
-        for (int f = 0; f < out.num_faces(); ++f)
-            if (orientation.flip[f]) {
-                std::swap(out.F(f, 1), out.F(f, 2));
-                ++counts.flipped_faces;
-            }
-    }
-    if (options.flip_caps && options.orient && counts.non_orientable_components == 0) {
-        const MendedCaps mended = mend_caps(out.V, out.F);
-        counts.flipped_caps = mended.flipped;
-        counts.dropped_caps = mended.dropped;
+        if (options.drop_repeated_index_faces) {
+            std::vector<char> drop(out.num_faces());
+            for (int f = 0; f < out.num_faces(); ++f) drop[f] = has_repeated_index(out.F, f);
+            counts.dropped_repeated_index_faces += static_cast<int>(std::count(drop.begin(), drop.end(), 1));
+            drop_faces(out.F, drop);
+        }
+        if (options.drop_duplicate_faces) {
+            const std::vector<char> drop = duplicate_faces(out.F, out.num_vertices());
+            counts.dropped_duplicate_faces += static_cast<int>(std::count(drop.begin(), drop.end(), 1));
+            drop_faces(out.F, drop);
+        }
+        if (options.split_nonmanifold_vertices) counts.split_vertices += split_nonmanifold_vertices(out);
+        if (options.orient) {
+            const Orientation orientation = orient_faces(out.F, build_edge_table(out.F, out.num_vertices()));
+            counts.non_orientable_components = orientation.non_orientable_components;
+            for (int f = 0; f < out.num_faces(); ++f)
+                if (orientation.flip[f]) {
+                    std::swap(out.F(f, 1), out.F(f, 2));
+                    ++counts.flipped_faces;
+                }
+        }
+        if (!options.flip_caps || !options.orient || counts.non_orientable_components > 0) break;
+        const MendedCaps mended = mend_caps(out.V, out.F, options.split_nonmanifold_vertices);
+        counts.flipped_caps += mended.flipped;
+        counts.dropped_caps += mended.dropped;
+        if (mended.torn > 0) counts.split_vertices += split_nonmanifold_vertices(out);
+        if (mended.left == 0 || mended.left >= zero_area_before) break;
+        zero_area_before = mended.left;
     }
     if (options.drop_unreferenced_vertices) {
         const std::vector<char> referenced = referenced_vertices(out);

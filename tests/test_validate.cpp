@@ -350,17 +350,43 @@ TEST(Repair, FlipsZeroAreaCapsAwayWithoutMovingTheSurface) {
     EXPECT_NEAR(volume, 4.0 / 3.0, 1e-12);
     EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
 
-    // Kept on request; a needle (zero area from a short side) is not a cap and stays, unless its
-    // short side is rounding (below 1e-12 of the diagonal, 3.5e-12 here; see the next test).
+    // Kept on request.
     RepairOptions keep;
     keep.flip_caps = false;
     EXPECT_EQ(validate(repair(capped, keep)).zero_area_faces, 1);
-    TriangleMesh needle = octahedron;
-    needle.V.row(4) << -1e-11 / std::sqrt(2.0), 1 + 1e-11 / std::sqrt(2.0), 0;  // +z 1e-11 beyond +y, from +x
-    EXPECT_EQ(validate(needle).zero_area_faces, 1);
-    RepairReport needle_report;
-    EXPECT_EQ(validate(repair(needle, {}, &needle_report)).zero_area_faces, 1);
-    EXPECT_EQ(needle_report.merged_vertices, 0);
+}
+
+TEST(Repair, CollapsesNeedles) {
+    // The octahedron with +z pushed into the plane z = 0, 1e-11 beyond +y as seen from +x: face
+    // +x +y +z is a needle (its short side +y +z is 7e-12 of its longest, 3.5e-12 of the diagonal:
+    // not rounding), which no flip mends. Collapsing that side into +y (the smaller index) leaves
+    // a double pyramid over the square.
+    TriangleMesh needle = make_mesh(
+        {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {-1e-11 / std::sqrt(2.0), 1 + 1e-11 / std::sqrt(2.0), 0}, {0, 0, -1}},
+        {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
+    ASSERT_EQ(validate(needle).zero_area_faces, 1);
+    EXPECT_THROW((void)convert(needle), InvalidMeshError);
+    RepairReport report;
+    const TriangleMesh repaired = repair(needle, {}, &report);
+    EXPECT_EQ(report.collapsed_needles, 1);
+    EXPECT_EQ(report.merged_vertices, 0);
+    EXPECT_EQ(report.dropped_repeated_index_faces, 2);
+    const MeshInfo info = validate(repaired);
+    EXPECT_EQ(info.zero_area_faces, 0);
+    EXPECT_EQ(info.faces, 6);
+    EXPECT_EQ(info.euler_characteristic, 2);
+    EXPECT_TRUE(info.manifold());
+    EXPECT_EQ(info.orientation_conflicts, 0);
+    EXPECT_EQ(repaired.V.row(2), Eigen::RowVector3d(0, 1, 0));  // the smaller index stays where it was
+    // The square's two faces and the pyramid's four: 2 + 4·√3/2.
+    EXPECT_NEAR(total_area(repaired), 2 + 2 * std::sqrt(3.0), 1e-10);
+    EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
+
+    // Kept on request.
+    RepairOptions keep;
+    keep.collapse_needles = false;
+    EXPECT_EQ(validate(repair(needle, keep, &report)).zero_area_faces, 1);
+    EXPECT_EQ(report.collapsed_needles, 0);
 }
 
 // A fan of caps: n + 1 collinear vertices p0..pn on the x axis, each pair p_i p_i+1 joined to pn
@@ -460,6 +486,34 @@ TEST(Repair, DropsACapOnTheBoundary) {
     const TriangleMesh lone = repair(make_mesh({{0, 0, 0}, {2, 0, 0}, {1, 0, 0}}, {{0, 1, 2}}), {}, &report);
     EXPECT_EQ(lone.num_faces(), 0);
     EXPECT_EQ(lone.num_vertices(), 0);
+}
+
+TEST(Repair, DropsABoundaryCapWhoseApexIsOnTheBoundaryElsewhere) {
+    // The unit square with a notch cut from the middle of its top side down to c = (0.5, 0), which
+    // a cap 1-c-0 along the bottom side joins to both corners. Dropping the cap tears c's fan in
+    // two: each half of the U gets its own copy of c.
+    const TriangleMesh notched = make_mesh(
+        {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0, 0}, {0.6, 1, 0}, {0.4, 1, 0}},
+        {{4, 1, 2}, {4, 2, 5}, {4, 6, 3}, {4, 3, 0}, {1, 4, 0}});
+    ASSERT_EQ(validate(notched).zero_area_faces, 1);
+    ASSERT_TRUE(validate(notched).manifold());
+    RepairReport report;
+    const TriangleMesh repaired = repair(notched, {}, &report);
+    EXPECT_EQ(report.dropped_caps, 1);
+    EXPECT_EQ(report.split_vertices, 1);
+    const MeshInfo info = validate(repaired);
+    EXPECT_EQ(info.faces, 4);
+    EXPECT_EQ(info.zero_area_faces, 0);
+    EXPECT_TRUE(info.manifold());
+    EXPECT_EQ(info.components, 2);
+    EXPECT_NEAR(total_area(repaired), 0.9, 1e-15);  // the square less the notch
+    EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
+    // Without the vertex split, the cap stays: dropping it would leave c non-manifold.
+    RepairOptions keep;
+    keep.split_nonmanifold_vertices = false;
+    const MeshInfo kept = validate(repair(notched, keep, &report));
+    EXPECT_EQ(kept.zero_area_faces, 1);
+    EXPECT_TRUE(kept.manifold());
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Converts every mesh that ten Debian packages ship, none of them used in development.
+"""Converts every mesh that thirteen Debian packages ship, none of them used in development.
 
     sweep.py SDMESH OUT [--work DIR] [--jobs N] [--timeout SECONDS] [--no-download]
 
@@ -11,11 +11,13 @@ tests, broken files included) and openscad-testing-data (OpenSCAD's STL tests):
 
     apt-get install libcgal-demo occt-misc geomview assimp-testmodels openscad-testing-data
 
-and from five packages that are downloaded (`apt-get download`) and unpacked into DIR/debs
+and from eight packages that are downloaded (`apt-get download`) and unpacked into DIR/debs
 rather than installed, since some pull in a desktop: cura (3D printers' beds), prusa-slicer
 (printers' beds and its shape gallery), minetest-data (a game's models), openfoam-examples
-(the surfaces of OpenFOAM's tutorials, mostly gzipped) and sweethome3d-furniture (820 OBJ models
-of furniture, plants and people, in zip archives that are unpacked too). Without a network, or
+(the surfaces of OpenFOAM's tutorials, mostly gzipped), sweethome3d-furniture (820 OBJ models
+of furniture, plants and people, in zip archives that are unpacked too), stellarium-data (shape
+models of asteroids and moons, and two observatories' scenery), gmsh-doc and netgen-doc (the STL
+surfaces of two mesh generators' demos and tutorials). Without a network, or
 with --no-download, those are left out.
 
 Each mesh is converted with the default split method and with hybrid at 10°, under a time limit
@@ -54,7 +56,9 @@ INSTALLED = (("occt-misc", OCCT_STL), ("geomview", GEOMVIEW), ("assimp-testmodel
 DOWNLOADED = (("cura", "usr/share/cura"), ("prusa-slicer", "usr/share/PrusaSlicer"),
               ("minetest-data", "usr/share/games/minetest"),
               ("openfoam-examples", "usr/share/doc/openfoam-examples/examples"),
-              ("sweethome3d-furniture", "usr/share/sweethome3d/furniture"))
+              ("sweethome3d-furniture", "usr/share/sweethome3d/furniture"),
+              ("stellarium-data", "usr/share/stellarium"), ("gmsh-doc", "usr/share/doc/gmsh-doc"),
+              ("netgen-doc", "usr/share/doc/netgen/examples"))
 MESH_SUFFIXES = (".off", ".obj", ".ply", ".stl")
 METHODS = {"split": [], "hybrid-10": ["--method", "hybrid", "--max-dihedral", "10"]}
 # sdmesh's exit codes (README, "Exit codes"): 0 certified, 1 not certified, 4 unsupported format,

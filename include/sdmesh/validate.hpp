@@ -72,13 +72,17 @@ void require_manifold(const MeshInfo& info, const std::string& what);
 void require_oriented_manifold(const MeshInfo& info, const std::string& what);
 
 /// Safe repairs, each optional; they move a vertex by at most 1e-12 of the bounding-box diagonal
-/// (merge_coincident_vertices) and the surface by at most the height of a zero-area face
-/// (flip_caps). Applied in this order.
+/// (merge_coincident_vertices) or by the short side of a needle (collapse_needles), and the
+/// surface by at most the height of a zero-area face (flip_caps). Applied in this order.
 struct RepairOptions {
     /// vertices at exactly the same position become one, and so do the two ends of a face side
     /// shorter than 1e-12 of the bounding-box diagonal (the same point up to rounding); the
     /// smallest index stays, where it was
     bool merge_coincident_vertices = true;
+    /// a needle (a zero-area face whose shortest side is below 1e-6 of its longest: two nearly
+    /// coincident vertices, which no flip mends) has the two ends of that side made one, the
+    /// smallest index staying where it was; the needle and the face across that side go
+    bool collapse_needles = true;
     bool drop_repeated_index_faces = true;  ///< faces with two equal indices
     bool drop_duplicate_faces = true;       ///< keep the first face of each vertex set
     /// each fan of faces around a non-manifold vertex gets its own copy of the vertex (sheets
@@ -95,6 +99,7 @@ struct RepairOptions {
 
 struct RepairReport {
     int merged_vertices = 0;
+    int collapsed_needles = 0;  ///< vertices merged by collapse_needles alone
     int dropped_repeated_index_faces = 0;
     int dropped_duplicate_faces = 0;
     int split_vertices = 0;  ///< copies made by split_nonmanifold_vertices

@@ -433,11 +433,12 @@ report["self_delaunay"] is the verdict. Raises InvalidMeshError (index out of ra
     const RepairOptions repair_defaults;
     m.def(
         "repair",
-        [](py::handle V, py::handle F, bool merge_coincident_vertices, bool drop_repeated_index_faces,
-           bool drop_duplicate_faces, bool split_nonmanifold_vertices, bool orient, bool flip_caps,
+        [](py::handle V, py::handle F, bool merge_coincident_vertices, bool collapse_needles,
+           bool drop_repeated_index_faces, bool drop_duplicate_faces, bool split_nonmanifold_vertices, bool orient, bool flip_caps,
            bool drop_unreferenced_vertices) {
             return repair_py(V, F,
                              {.merge_coincident_vertices = merge_coincident_vertices,
+                              .collapse_needles = collapse_needles,
                               .drop_repeated_index_faces = drop_repeated_index_faces,
                               .drop_duplicate_faces = drop_duplicate_faces,
                               .split_nonmanifold_vertices = split_nonmanifold_vertices,
@@ -446,14 +447,15 @@ report["self_delaunay"] is the verdict. Raises InvalidMeshError (index out of ra
                               .drop_unreferenced_vertices = drop_unreferenced_vertices});
         },
         arg("V"), arg("F"), py::kw_only(), arg("merge_coincident_vertices") = repair_defaults.merge_coincident_vertices,
+        arg("collapse_needles") = repair_defaults.collapse_needles,
         arg("drop_repeated_index_faces") = repair_defaults.drop_repeated_index_faces,
         arg("drop_duplicate_faces") = repair_defaults.drop_duplicate_faces,
         arg("split_nonmanifold_vertices") = repair_defaults.split_nonmanifold_vertices,
         arg("orient") = repair_defaults.orient, arg("flip_caps") = repair_defaults.flip_caps,
         arg("drop_unreferenced_vertices") = repair_defaults.drop_unreferenced_vertices,
-        R"(repair(V, F, *, merge_coincident_vertices=True, drop_repeated_index_faces=True,
-       drop_duplicate_faces=True, split_nonmanifold_vertices=True, orient=True, flip_caps=True,
-       drop_unreferenced_vertices=True) -> (V, F, report)
+        R"(repair(V, F, *, merge_coincident_vertices=True, collapse_needles=True,
+       drop_repeated_index_faces=True, drop_duplicate_faces=True, split_nonmanifold_vertices=True,
+       orient=True, flip_caps=True, drop_unreferenced_vertices=True) -> (V, F, report)
 
 The safe repairs of `sdmesh repair`, each on unless turned off (see sdmesh/validate.hpp): what
 to run before convert or decimate when they raise InvalidMeshError. report: the keys of

@@ -35,8 +35,9 @@ Commands:
                                   Delaunay-preserving edge collapses of a self-Delaunay mesh;
                                   --levels also writes OUT_levelK for each ratio; exit 0 if
                                   the output is self-Delaunay (status reached_target or stalled)
-  repair IN OUT [--keep-...]      merge coincident vertices, drop repeated-index and duplicate
-                                  faces, give each fan at a non-manifold vertex its own copy,
+  repair IN OUT [--keep-...]      merge coincident vertices, collapse zero-area needles, drop
+                                  repeated-index and duplicate faces, give each fan at a
+                                  non-manifold vertex its own copy,
                                   orient consistently, flip zero-area caps away, drop
                                   unreferenced vertices
   operators MESH --out DIR [--mass barycentric|circumcentric|mixed|galerkin]

@@ -1,4 +1,5 @@
-// `sdmesh repair IN OUT`: the safe repairs of validate.hpp, none of which moves a vertex.
+// `sdmesh repair IN OUT`: the safe repairs of validate.hpp, none of which moves a vertex by more than
+// rounding or a needle's short side.
 
 #include <iostream>
 
@@ -14,6 +15,7 @@ namespace sdmesh::cli {
 int run_repair(Args& args) {
     RepairOptions options;
     options.merge_coincident_vertices = !args.flag("--keep-coincident");
+    options.collapse_needles = !args.flag("--keep-needles");
     options.drop_repeated_index_faces = !args.flag("--keep-repeated");
     options.drop_duplicate_faces = !args.flag("--keep-duplicates");
     options.split_nonmanifold_vertices = !args.flag("--keep-nonmanifold");
@@ -21,8 +23,8 @@ int run_repair(Args& args) {
     options.flip_caps = !args.flag("--keep-caps");
     options.drop_unreferenced_vertices = !args.flag("--keep-unreferenced");
     const auto paths = args.positionals(
-        2, "sdmesh repair IN OUT [--keep-coincident] [--keep-repeated] [--keep-duplicates] "
-           "[--keep-nonmanifold] [--keep-orientation] [--keep-caps] [--keep-unreferenced]");
+        2, "sdmesh repair IN OUT [--keep-coincident] [--keep-needles] [--keep-repeated] "
+           "[--keep-duplicates] [--keep-nonmanifold] [--keep-orientation] [--keep-caps] [--keep-unreferenced]");
 
     const TriangleMesh mesh = read_mesh(paths[0]);
     check_mesh_output(paths[1]);

@@ -84,6 +84,7 @@ JsonObject read_report_json(const ReadReport& read) {
 JsonObject repair_json(const RepairReport& report, const MeshInfo& repaired) {
     JsonObject json;
     json.add("merged_vertices", report.merged_vertices)
+        .add("collapsed_needles", report.collapsed_needles)
         .add("dropped_repeated_index_faces", report.dropped_repeated_index_faces)
         .add("dropped_duplicate_faces", report.dropped_duplicate_faces)
         .add("split_vertices", report.split_vertices)
