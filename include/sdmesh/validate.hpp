@@ -73,7 +73,9 @@ void require_oriented_manifold(const MeshInfo& info, const std::string& what);
 
 /// Safe repairs, each optional; they move a vertex by at most 1e-12 of the bounding-box diagonal
 /// (merge_coincident_vertices) or by the short side of a needle (collapse_needles), and the
-/// surface by at most the height of a zero-area face (flip_caps). Applied in this order.
+/// surface by at most the height of a zero-area face (flip_caps). Applied in this order; while
+/// that leaves fewer zero-area faces than before, all but the merge of coincident vertices and
+/// the drop of unreferenced ones run again (a cap's flip can make a needle).
 struct RepairOptions {
     /// vertices at exactly the same position become one, and so do the two ends of a face side
     /// shorter than 1e-12 of the bounding-box diagonal (the same point up to rounding); the
@@ -92,7 +94,9 @@ struct RepairOptions {
                          ///< the orientation of its first face
     /// zero-area faces with a vertex inside their longest side (caps) are flipped away with the
     /// face across that side, which the two new faces tile, or dropped when that side is on the
-    /// boundary (their two other sides then run along it); needs the orientation repair
+    /// boundary (their two other sides then run along it; an apex that is on the boundary
+    /// elsewhere too gets a copy for each side, if split_nonmanifold_vertices); needs the
+    /// orientation repair
     bool flip_caps = true;
     bool drop_unreferenced_vertices = true; ///< compact V; remaining vertices keep their order
 };

@@ -104,6 +104,22 @@ def test_repair_equals_the_cli_and_makes_a_messy_mesh_convertible(cli, tmp_path,
     assert sdmesh.repair(V, F, orient=False)[2]["flipped_faces"] == 0
 
 
+def test_repair_collapses_a_needle_unless_kept_as_the_cli_does(cli, tmp_path):
+    # The octahedron with its top vertex pushed into the plane, 1e-11 beyond +y: face 0-2-4 is a
+    # needle, which no flip mends.
+    e = 1e-11 / np.sqrt(2.0)
+    V = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [-e, 1 + e, 0], [0, 0, -1]], dtype=float)
+    F = np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])
+    path = tmp_path / "needle.ply"
+    sdmesh.write_mesh(path, V, F)
+    for flags, keywords, collapsed, faces in (((), {}, 1, 6), (("--keep-needles",), {"collapse_needles": False}, 0, 8)):
+        expected = cli_json(cli("repair", path, tmp_path / "repaired.ply", *flags))
+        del expected["input"], expected["output"]
+        _, F2, report = sdmesh.repair(V, F, **keywords)
+        assert report == expected
+        assert (report["collapsed_needles"], len(F2)) == (collapsed, faces)
+
+
 def test_convert_equals_the_cli(cli, tmp_path, bunny_path, bunny, converted_bunny):
     done = cli("convert", bunny_path, tmp_path / "out.obj", "--method", "hybrid", "--max-dihedral", "5")
     expected = cli_json(done)
