@@ -70,12 +70,16 @@ bool has_zero_area(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int f, 
 // with a vertex inside its longest side.
 constexpr double kNeedleSide = 1e-6;
 
+// Whether a zero-area face with these sides is a needle.
+bool is_needle(const double (&sides)[3]) {
+    return *std::min_element(sides, sides + 3) < kNeedleSide * *std::max_element(sides, sides + 3);
+}
+
 // The corner opposite the short side of face f if it is a needle, else -1.
 int needle_corner(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int f) {
     double sides[3];
-    if (!has_zero_area(V, F, f, sides)) return -1;
-    const auto [shortest, longest] = std::minmax_element(sides, sides + 3);
-    return *shortest < kNeedleSide * *longest ? static_cast<int>(shortest - sides) : -1;
+    if (!has_zero_area(V, F, f, sides) || !is_needle(sides)) return -1;
+    return static_cast<int>(std::min_element(sides, sides + 3) - sides);
 }
 
 struct Merges {
@@ -114,12 +118,13 @@ Merges merge_representatives(const TriangleMesh& mesh, const std::vector<char>& 
                 if (a != b && (mesh.V.row(a) - mesh.V.row(b)).norm() <= shortest) merged |= sets.unite(a, b);
             }
     if (needles)
-        for (int f = 0; f < mesh.num_faces(); ++f)
-            if (const int k = needle_corner(mesh.V, mesh.F, f); k >= 0 && sets.unite(representative[mesh.F(f, (k + 1) % 3)],
-                                                                                      representative[mesh.F(f, (k + 2) % 3)])) {
+        for (int f = 0; f < mesh.num_faces(); ++f) {
+            const int k = needle_corner(mesh.V, mesh.F, f);
+            if (k >= 0 && sets.unite(representative[mesh.F(f, (k + 1) % 3)], representative[mesh.F(f, (k + 2) % 3)])) {
                 merged = true;
                 ++merges.needle_sides;
             }
+        }
     if (!merged) return merges;
     std::vector<int> smallest(representative.size(), INT_MAX);
     for (int v = 0; v < mesh.num_vertices(); ++v) {
@@ -325,7 +330,7 @@ MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F, bool may_te
         double sides[3];
         if (dropped[f] || !has_zero_area(V, F, f, sides)) return true;
         const int corner = static_cast<int>(std::max_element(sides, sides + 3) - sides);
-        if (*std::min_element(sides, sides + 3) < kNeedleSide * sides[corner]) return true;  // a needle
+        if (is_needle(sides)) return true;
         const int c = F(f, corner), a = F(f, (corner + 1) % 3), b = F(f, (corner + 2) % 3);
         const CapEdges::Faces long_side = edges.at(a, b), ca = edges.at(c, a), cb = edges.at(c, b);
         if (long_side.count == 1) {
