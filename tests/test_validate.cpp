@@ -16,6 +16,18 @@ namespace sdmesh {
 namespace {
 
 using test::make_mesh;
+using test::total_area;  // repairs must not change it
+
+// What every repaired mesh here must be: `faces` faces, none of zero area, a manifold with the
+// input's surface area.
+MeshInfo expect_mended(const TriangleMesh& repaired, int faces, double area, double tolerance) {
+    const MeshInfo info = validate(repaired);
+    EXPECT_EQ(info.faces, faces);
+    EXPECT_EQ(info.zero_area_faces, 0);
+    EXPECT_TRUE(info.manifold());
+    EXPECT_NEAR(total_area(repaired), area, tolerance);
+    return info;
+}
 
 TEST(EdgeTable, LexicographicWithFaceIncidence) {
     const TriangleMesh quad = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}});
@@ -252,16 +264,6 @@ TEST(Repair, RestoresAValidMesh) {
     EXPECT_GT(volume, 0);
 }
 
-// The area of a mesh's faces: repairs must not change it.
-double total_area(const TriangleMesh& mesh) {
-    double area = 0;
-    for (int f = 0; f < mesh.num_faces(); ++f) {
-        const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-        area += 0.5 * (b - a).cross(c - a).norm();
-    }
-    return area;
-}
-
 TEST(Repair, GivesEachFanAtANonManifoldVertexItsOwnCopy) {
     // Two octahedra touching at a vertex (a bow-tie vertex), and a book of three triangles on one
     // edge (an edge with three faces; both its vertices are non-manifold).
@@ -371,15 +373,11 @@ TEST(Repair, CollapsesNeedles) {
     EXPECT_EQ(report.collapsed_needles, 1);
     EXPECT_EQ(report.merged_vertices, 0);
     EXPECT_EQ(report.dropped_repeated_index_faces, 2);
-    const MeshInfo info = validate(repaired);
-    EXPECT_EQ(info.zero_area_faces, 0);
-    EXPECT_EQ(info.faces, 6);
+    // The square's two faces and the pyramid's four: 2 + 4·√3/2.
+    const MeshInfo info = expect_mended(repaired, 6, 2 + 2 * std::sqrt(3.0), 1e-10);
     EXPECT_EQ(info.euler_characteristic, 2);
-    EXPECT_TRUE(info.manifold());
     EXPECT_EQ(info.orientation_conflicts, 0);
     EXPECT_EQ(repaired.V.row(2), Eigen::RowVector3d(0, 1, 0));  // the smaller index stays where it was
-    // The square's two faces and the pyramid's four: 2 + 4·√3/2.
-    EXPECT_NEAR(total_area(repaired), 2 + 2 * std::sqrt(3.0), 1e-10);
     EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
 
     // Kept on request.
@@ -452,13 +450,8 @@ TEST(Repair, MergesTheEndsOfASideAsShortAsRounding) {
     const TriangleMesh repaired = repair(mesh, {}, &report);
     EXPECT_EQ(report.merged_vertices, 1);
     EXPECT_EQ(report.dropped_repeated_index_faces, 2);
-    const MeshInfo info = validate(repaired);
-    EXPECT_EQ(info.zero_area_faces, 0);
-    EXPECT_EQ(info.faces, 8);
-    EXPECT_EQ(info.euler_characteristic, 2);
-    EXPECT_TRUE(info.manifold());
+    EXPECT_EQ(expect_mended(repaired, 8, 4 * std::sqrt(3.0), 1e-12).euler_characteristic, 2);
     EXPECT_EQ(repaired.V.row(0), Eigen::RowVector3d(1, 0, 0));  // the smaller index stays where it was
-    EXPECT_NEAR(total_area(repaired), 4 * std::sqrt(3.0), 1e-12);
     // 1e-9 apart, the two are distinct vertices: nothing is merged.
     mesh.V(6, 1) = 1e-9;
     EXPECT_EQ(repair(mesh, {}, &report).num_faces(), 10);
@@ -475,13 +468,9 @@ TEST(Repair, DropsACapOnTheBoundary) {
     const TriangleMesh repaired = repair(capped, {}, &report);
     EXPECT_EQ(report.dropped_caps, 1);
     EXPECT_EQ(report.flipped_caps, 0);
-    const MeshInfo info = validate(repaired);
-    EXPECT_EQ(info.faces, 3);
-    EXPECT_EQ(info.zero_area_faces, 0);
+    const MeshInfo info = expect_mended(repaired, 3, 1.0, 1e-15);
     EXPECT_EQ(info.boundary_loops, 1);
     EXPECT_EQ(info.boundary_edges, 5);
-    EXPECT_TRUE(info.manifold());
-    EXPECT_NEAR(total_area(repaired), 1.0, 1e-15);
     // A lone cap is a component of zero area: it goes, with its vertices.
     const TriangleMesh lone = repair(make_mesh({{0, 0, 0}, {2, 0, 0}, {1, 0, 0}}, {{0, 1, 2}}), {}, &report);
     EXPECT_EQ(lone.num_faces(), 0);
@@ -501,12 +490,7 @@ TEST(Repair, DropsABoundaryCapWhoseApexIsOnTheBoundaryElsewhere) {
     const TriangleMesh repaired = repair(notched, {}, &report);
     EXPECT_EQ(report.dropped_caps, 1);
     EXPECT_EQ(report.split_vertices, 1);
-    const MeshInfo info = validate(repaired);
-    EXPECT_EQ(info.faces, 4);
-    EXPECT_EQ(info.zero_area_faces, 0);
-    EXPECT_TRUE(info.manifold());
-    EXPECT_EQ(info.components, 2);
-    EXPECT_NEAR(total_area(repaired), 0.9, 1e-15);  // the square less the notch
+    EXPECT_EQ(expect_mended(repaired, 4, 0.9, 1e-15).components, 2);  // the square less the notch
     EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
     // Without the vertex split, the cap stays: dropping it would leave c non-manifold.
     RepairOptions keep;
