@@ -6,6 +6,7 @@
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
 #include "sdmesh/topology.hpp"
+#include "number_text.hpp"
 #include "prefault.hpp"
 
 namespace sdmesh {
@@ -49,11 +50,14 @@ void check_geometry(const Triangulation& t) {
     const auto& length = t.length;
     for (int e = 0; e < ne; ++e)
         if (!(length[e] > 0) || !std::isfinite(length[e]))
-            fail("edge " + std::to_string(e) + " has length " + std::to_string(length[e]));
+            fail("edge " + std::to_string(e) + " has length " + detail::number_text(length[e]));
+    // A face of positive area by its coordinates can still be flat by its side lengths: a corner
+    // within rounding of 180° (validate() judges by coordinates).
     for (int f = 0; f < nf; ++f)
         if (!(triangle_area(t.side(f, 0), t.side(f, 1), t.side(f, 2)) > 0))
-            fail("face " + std::to_string(f) + " has zero area (sides " + std::to_string(t.side(f, 0)) + ", " +
-                 std::to_string(t.side(f, 1)) + ", " + std::to_string(t.side(f, 2)) + ")");
+            fail("face " + std::to_string(f) + " has zero area by its side lengths " +
+                 detail::number_text(t.side(f, 0)) + ", " + detail::number_text(t.side(f, 1)) + " and " +
+                 detail::number_text(t.side(f, 2)) + " (a corner within rounding of 180 degrees)");
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include "sdmesh/convert.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/shapes.hpp"
+#include "sdmesh/triangulation.hpp"
 #include "sdmesh/validate.hpp"
 
 namespace sdmesh {
@@ -211,6 +213,16 @@ TEST(Validate, ZeroAreaIsJudgedFromCoordinatesNotSideLengths) {
     RepairReport report;
     repair(mesh, {}, &report);
     EXPECT_EQ(report.flipped_caps, 0);
+    // By its side lengths (2e8 + 6e8 = 8e8 in rounding) it has none: the operators, which take
+    // their angles from the lengths, refuse it and say so.
+    try {
+        (void)Triangulation::from_mesh(mesh);
+        ADD_FAILURE() << "no InvalidMeshError";
+    } catch (const InvalidMeshError& e) {
+        EXPECT_NE(std::string(e.what()).find("face 0 has zero area by its side lengths 6e+08, 2e+08 and 8e+08"),
+                  std::string::npos)
+            << e.what();
+    }
     // Exactly on the side it is a cap, and the flip keeps the area.
     TriangleMesh cap = mesh;
     cap.V(2, 1) = 0;
