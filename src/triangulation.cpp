@@ -88,8 +88,8 @@ Triangulation Triangulation::from_side_lengths(const Eigen::MatrixX3i& F, const 
             const double l1 = side_length(h1 / 3, h1 % 3);
             if (!(std::abs(l0 - l1) <= 1e-12 * std::max(l0, l1)))
                 throw InvalidMeshError("edge (" + std::to_string(t.E(e, 0)) + ", " + std::to_string(t.E(e, 1)) +
-                                       ") has length " + std::to_string(l0) + " in face " + std::to_string(h0 / 3) +
-                                       " but " + std::to_string(l1) + " in face " + std::to_string(h1 / 3));
+                                       ") has length " + detail::number_text(l0) + " in face " + std::to_string(h0 / 3) +
+                                       " but " + detail::number_text(l1) + " in face " + std::to_string(h1 / 3));
         }
         t.length[e] = l0;
     }
