@@ -117,14 +117,18 @@ Merges merge_representatives(const TriangleMesh& mesh, const std::vector<char>& 
                 const int a = representative[mesh.F(f, k)], b = representative[mesh.F(f, (k + 1) % 3)];
                 if (a != b && (mesh.V.row(a) - mesh.V.row(b)).norm() <= shortest) merged |= sets.unite(a, b);
             }
-    if (needles)
+    if (needles) {
+        std::vector<signed char> corner(static_cast<size_t>(mesh.num_faces()));
+#pragma omp parallel for schedule(static)
+        for (int f = 0; f < mesh.num_faces(); ++f) corner[f] = static_cast<signed char>(needle_corner(mesh.V, mesh.F, f));
         for (int f = 0; f < mesh.num_faces(); ++f) {
-            const int k = needle_corner(mesh.V, mesh.F, f);
+            const int k = corner[f];
             if (k >= 0 && sets.unite(representative[mesh.F(f, (k + 1) % 3)], representative[mesh.F(f, (k + 2) % 3)])) {
                 merged = true;
                 ++merges.needle_sides;
             }
         }
+    }
     if (!merged) return merges;
     std::vector<int> smallest(representative.size(), INT_MAX);
     for (int v = 0; v < mesh.num_vertices(); ++v) {
