@@ -35,11 +35,13 @@ Commands:
                                   Delaunay-preserving edge collapses of a self-Delaunay mesh;
                                   --levels also writes OUT_levelK for each ratio; exit 0 if
                                   the output is self-Delaunay (status reached_target or stalled)
-  repair IN OUT [--keep-...]      merge coincident vertices, collapse zero-area needles, drop
+  repair IN OUT [--keep-coincident] [--keep-needles] [--keep-repeated] [--keep-duplicates]
+          [--keep-nonmanifold] [--keep-orientation] [--keep-caps] [--keep-unreferenced]
+                                  merge coincident vertices, collapse zero-area needles, drop
                                   repeated-index and duplicate faces, give each fan at a
-                                  non-manifold vertex its own copy,
-                                  orient consistently, flip zero-area caps away, drop
-                                  unreferenced vertices
+                                  non-manifold vertex its own copy, orient consistently, flip
+                                  zero-area caps away, drop unreferenced vertices; each
+                                  --keep-... flag turns one of them off
   operators MESH --out DIR [--mass barycentric|circumcentric|mixed|galerkin]
                                   L, M, d0, d1, star0/1/2 as Matrix Market files and report.json in DIR
   intrinsic MESH --out DIR [--mass ...] [--tolerance RAD] [--max-flips N]
