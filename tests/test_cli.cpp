@@ -170,6 +170,21 @@ TEST_F(Cli, NonManifoldMeshIsReportedNotRejected) {
     EXPECT_NE(r.err.find("edge (0, 1) has more than two faces"), std::string::npos) << r.err;
 }
 
+TEST_F(Cli, ConvertPointsToRepairWhereItCanHelp) {
+    // A fin (an edge with three faces) is what repair mends; a coordinate that is not finite is not.
+    const std::string fin = write_text("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
+    const std::string hint = "(--repair mends what it safely can)";
+    CliRun r = run_cli("convert " + fin + " " + path("out.ply"));
+    EXPECT_EQ(r.code, 6);
+    EXPECT_NE(r.err.find("edge (0, 1) has more than two faces"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(hint), std::string::npos) << r.err;
+    EXPECT_EQ(run_cli("convert " + fin + " " + path("out.ply") + " --repair").code, 0);
+    const std::string nan = write_text("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+    r = run_cli("convert " + nan + " " + path("out.ply"));
+    EXPECT_EQ(r.code, 6);
+    EXPECT_EQ(r.err.find(hint), std::string::npos) << r.err;
+}
+
 TEST_F(Cli, RepairWeldsAndOrientsASoup) {
     // Two triangles of a square written as a soup, the second one wound the other way.
     const std::string soup = write_text("soup.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\n"

@@ -16,6 +16,15 @@
 namespace sdmesh::cli {
 namespace {
 
+// Whether the defect that convert names (the first of require_oriented_manifold's) is of a kind
+// the safe repairs mend. They leave non-finite coordinates and a non-orientable surface as they
+// are, and an inconsistent orientation says so in its own message.
+bool repair_may_mend(const MeshInfo& info) {
+    if (info.non_finite_vertices > 0) return false;
+    if (!first_defect(info).empty()) return true;  // non-manifold, repeated indices
+    return info.orientable && info.orientation_conflicts == 0 && info.zero_area_faces > 0;
+}
+
 constexpr const char* kConvertUsage =
     "sdmesh convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell] [--max-dihedral DEG] "
     "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--cascade-trials N] [--local-search PASSES] "
@@ -49,7 +58,14 @@ int run_convert(Args& args) {
     check_mesh_output(paths[1]);  // before the conversion, not after it
     if (report_path) check_text_output(*report_path);
     if (repair_first) mesh = about_file(paths[0], [&] { return repair(mesh); });
-    const ConversionResult result = about_file(paths[0], [&] { return convert(mesh, options); });
+    const ConversionResult result = about_file(paths[0], [&] {
+        try {
+            return convert(mesh, options);
+        } catch (const InvalidMeshError& e) {
+            if (repair_first || !repair_may_mend(validate(mesh))) throw;
+            throw InvalidMeshError(std::string(e.what()) + " (--repair mends what it safely can)");
+        }
+    });
     if (options.progress) std::cerr << "convert: writing " << paths[1] << std::endl;
     write_mesh(paths[1], result.mesh);
 
