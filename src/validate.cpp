@@ -393,11 +393,18 @@ MendedCaps mend_caps(const Eigen::MatrixX3d& V, Eigen::MatrixX3i& F, bool may_te
 // Gives each fan of faces around a non-manifold vertex its own copy of the vertex (at the same
 // position), the fan with the smallest corner keeping the original: faces of a fan are joined
 // through edges with exactly two faces, so the sheets that meet at an edge with more faces come
-// apart along it, each with a boundary there. Faces with a repeated index are left out. Returns
-// the number of copies made.
-int split_nonmanifold_vertices(TriangleMesh& mesh) {
+// apart along it, each with a boundary there. Faces with a repeated index are left out. With
+// `unmerged` (F before this pass merged coincident vertices, row for row), a fan whose corners
+// all had one vertex at exactly this position gets that vertex back instead of a copy: merging
+// vertices that the split parts again changes nothing, so a repaired mesh repairs to itself.
+struct SplitVertices {
+    int copies = 0;
+    int restored = 0;  ///< merged vertices given back to their fans
+};
+
+SplitVertices split_nonmanifold_vertices(TriangleMesh& mesh, const Eigen::MatrixX3i* unmerged = nullptr) {
     const EdgeTable table = build_edge_table(mesh.F, mesh.num_vertices());
-    if (table.nonmanifold_vertices.empty()) return 0;
+    if (table.nonmanifold_vertices.empty()) return {};
     Eigen::MatrixX3i& F = mesh.F;
     const int corners = static_cast<int>(3 * F.rows());
     UnionFind fans(corners);  // corner 3f + k: vertex F(f, k) in face f
@@ -412,17 +419,33 @@ int split_nonmanifold_vertices(TriangleMesh& mesh) {
     }
     std::vector<char> nonmanifold(static_cast<size_t>(mesh.num_vertices()), 0);
     for (const int v : table.nonmanifold_vertices) nonmanifold[v] = 1;
+    auto in_a_fan = [&](int c) { return nonmanifold[F(c / 3, c % 3)] && !has_repeated_index(F, c / 3); };
+    // By fan root: the vertex all its corners had before the merge, -2 if they had several.
+    std::vector<int> fan_origin;
+    if (unmerged) {
+        fan_origin.assign(static_cast<size_t>(corners), -1);
+        for (int c = 0; c < corners; ++c) {
+            if (!in_a_fan(c)) continue;
+            int& origin = fan_origin[fans.find(c)];
+            const int before = (*unmerged)(c / 3, c % 3);
+            origin = origin == -1 || origin == before ? before : -2;
+        }
+    }
     // By fan root: the vertex that fan's corners get, once its first corner has been seen.
     std::vector<int> fan_vertex(static_cast<size_t>(corners), -1);
-    std::vector<char> kept(static_cast<size_t>(mesh.num_vertices()), 0);  // a fan has the original
+    std::vector<char> taken(static_cast<size_t>(mesh.num_vertices()), 0);  // by a fan
     std::vector<int> copied_from;
+    SplitVertices split;
     for (int c = 0; c < corners; ++c) {
-        const int f = c / 3, v = F(f, c % 3);
-        if (!nonmanifold[v] || has_repeated_index(F, f)) continue;
-        int& vertex = fan_vertex[fans.find(c)];
+        if (!in_a_fan(c)) continue;
+        const int f = c / 3, v = F(f, c % 3), root = fans.find(c);
+        int& vertex = fan_vertex[root];
         if (vertex < 0) {
-            if (!kept[v]) {
-                vertex = v, kept[v] = 1;
+            const int origin = unmerged ? fan_origin[root] : -1;
+            const int wanted = origin >= 0 && mesh.V.row(origin) == mesh.V.row(v) ? origin : v;
+            if (!taken[wanted]) {
+                vertex = wanted, taken[wanted] = 1;
+                split.restored += wanted != v;
             } else {
                 vertex = mesh.num_vertices() + static_cast<int>(copied_from.size());
                 copied_from.push_back(v);
@@ -433,7 +456,8 @@ int split_nonmanifold_vertices(TriangleMesh& mesh) {
     const int old_count = mesh.num_vertices();
     mesh.V.conservativeResize(old_count + static_cast<Eigen::Index>(copied_from.size()), 3);
     for (size_t i = 0; i < copied_from.size(); ++i) mesh.V.row(old_count + static_cast<int>(i)) = mesh.V.row(copied_from[i]);
-    return static_cast<int>(copied_from.size());
+    split.copies = static_cast<int>(copied_from.size());
+    return split;
 }
 
 }  // namespace
@@ -579,34 +603,47 @@ TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, Repa
     RepairReport counts;
     TriangleMesh out = mesh;
 
-    // A cap's flip can make needles (its apex and the vertex across its long side may be copies of
-    // one split vertex, or nearly one point), and mending stops at a budget of flips: while a pass
-    // leaves fewer zero-area faces than the one before, the steps run again, merging needles only.
+    // Mending caps changes what the steps before it find: a flip can make a needle (its apex and
+    // the vertex across its long side may be copies of one split vertex, or nearly one point) or
+    // a face that duplicates one on a sheet the split parted, and a dropped cap can leave two such
+    // sheets on an edge with two faces, to be joined again. So the steps run again after a pass
+    // that mended every cap it changed something, or that left fewer zero-area faces than the
+    // one before (mending stops at a budget of flips).
     constexpr int kMaxPasses = 8;
     for (int pass = 0, zero_area_before = INT_MAX; pass < kMaxPasses; ++pass) {
-        const bool coincident = pass == 0 && options.merge_coincident_vertices;
+        const bool coincident = options.merge_coincident_vertices;
+        Eigen::MatrixX3i unmerged;  // F before this pass's merges, for the split to undo
         if (coincident || options.collapse_needles) {
             const Merges merges = merge_representatives(out, referenced_vertices(out), coincident, options.collapse_needles);
             const std::vector<int>& representative = merges.representative;
             for (int v = 0; v < out.num_vertices(); ++v) counts.merged_vertices += representative[v] != v;
             counts.collapsed_needles += merges.needle_sides;
             counts.merged_vertices -= merges.needle_sides;
+            if (coincident) unmerged = out.F;
             for (int f = 0; f < out.num_faces(); ++f)
                 for (int k = 0; k < 3; ++k) out.F(f, k) = representative[out.F(f, k)];
         }
+        auto drop = [&](const std::vector<char>& faces) {
+            drop_faces(out.F, faces);
+            if (unmerged.rows() > 0) drop_faces(unmerged, faces);
+        };
 
         if (options.drop_repeated_index_faces) {
-            std::vector<char> drop(out.num_faces());
-            for (int f = 0; f < out.num_faces(); ++f) drop[f] = has_repeated_index(out.F, f);
-            counts.dropped_repeated_index_faces += static_cast<int>(std::count(drop.begin(), drop.end(), 1));
-            drop_faces(out.F, drop);
+            std::vector<char> faces(out.num_faces());
+            for (int f = 0; f < out.num_faces(); ++f) faces[f] = has_repeated_index(out.F, f);
+            counts.dropped_repeated_index_faces += static_cast<int>(std::count(faces.begin(), faces.end(), 1));
+            drop(faces);
         }
         if (options.drop_duplicate_faces) {
-            const std::vector<char> drop = duplicate_faces(out.F, out.num_vertices());
-            counts.dropped_duplicate_faces += static_cast<int>(std::count(drop.begin(), drop.end(), 1));
-            drop_faces(out.F, drop);
+            const std::vector<char> faces = duplicate_faces(out.F, out.num_vertices());
+            counts.dropped_duplicate_faces += static_cast<int>(std::count(faces.begin(), faces.end(), 1));
+            drop(faces);
         }
-        if (options.split_nonmanifold_vertices) counts.split_vertices += split_nonmanifold_vertices(out);
+        if (options.split_nonmanifold_vertices) {
+            const SplitVertices split = split_nonmanifold_vertices(out, unmerged.rows() > 0 ? &unmerged : nullptr);
+            counts.split_vertices += split.copies;
+            counts.merged_vertices -= split.restored;
+        }
         if (options.orient) {
             const Orientation orientation = orient_faces(out.F, build_edge_table(out.F, out.num_vertices()));
             counts.non_orientable_components = orientation.non_orientable_components;
@@ -620,8 +657,9 @@ TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, Repa
         const MendedCaps mended = mend_caps(out.V, out.F, options.split_nonmanifold_vertices);
         counts.flipped_caps += mended.flipped;
         counts.dropped_caps += mended.dropped;
-        if (mended.torn > 0) counts.split_vertices += split_nonmanifold_vertices(out);
-        if (mended.left == 0 || mended.left >= zero_area_before) break;
+        if (mended.torn > 0) counts.split_vertices += split_nonmanifold_vertices(out).copies;
+        const bool changed = mended.flipped + mended.dropped > 0;
+        if (mended.left > 0 ? mended.left >= zero_area_before : !changed) break;
         zero_area_before = mended.left;
     }
     if (options.drop_unreferenced_vertices) {

@@ -31,6 +31,16 @@ MeshInfo expect_mended(const TriangleMesh& repaired, int faces, double area, dou
     return info;
 }
 
+// A repaired mesh repairs to itself: the same mesh, and nothing done.
+void expect_repairs_to_itself(const TriangleMesh& repaired) {
+    RepairReport again;
+    const TriangleMesh twice = repair(repaired, {}, &again);
+    EXPECT_EQ(twice.V, repaired.V);
+    EXPECT_EQ(twice.F, repaired.F);
+    EXPECT_TRUE(again == RepairReport{}) << "merged " << again.merged_vertices << ", split " << again.split_vertices
+                                         << ", dropped " << again.dropped_vertices << " vertices";
+}
+
 TEST(EdgeTable, LexicographicWithFaceIncidence) {
     const TriangleMesh quad = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}});
     const EdgeTable edges = build_edge_table(quad.F, 4);
@@ -268,6 +278,7 @@ TEST(Repair, RestoresAValidMesh) {
     EXPECT_EQ(info.genus, 0);
     EXPECT_EQ(info.duplicate_vertex_positions, 0);
     EXPECT_EQ(info.unreferenced_vertices, 0);
+    expect_repairs_to_itself(repaired);
     // Outward orientation is kept: positive signed volume.
     double volume = 0;
     for (int f = 0; f < repaired.num_faces(); ++f)
@@ -307,6 +318,19 @@ TEST(Repair, GivesEachFanAtANonManifoldVertexItsOwnCopy) {
     EXPECT_EQ(after.duplicate_vertex_positions, 1);  // the copy sits where the vertex was
     EXPECT_NEAR(total_area(repaired), total_area(touching), 1e-12);
     EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
+    expect_repairs_to_itself(repaired);
+    // Merging the copy with the vertex would make the bow-tie again: two vertices at one point,
+    // one in each octahedron, are left as they are.
+    TriangleMesh apart = touching;
+    apart.V.conservativeResize(12, 3);
+    apart.V.row(11) = apart.V.row(0);
+    for (int f = 8; f < 16; ++f)
+        for (int k = 0; k < 3; ++k)
+            if (apart.F(f, k) == 0) apart.F(f, k) = 11;
+    const TriangleMesh left = repair(apart, {}, &report);
+    EXPECT_TRUE(report == RepairReport{});
+    EXPECT_EQ(left.V, apart.V);
+    EXPECT_EQ(left.F, apart.F);
 
     const TriangleMesh book = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0.2}, {0.5, 0, 1}},
                                         {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
@@ -322,6 +346,16 @@ TEST(Repair, GivesEachFanAtANonManifoldVertexItsOwnCopy) {
         for (int w = 0; w < book.num_vertices(); ++w) found = found || pages.V.row(v) == book.V.row(w);
         EXPECT_TRUE(found) << "vertex " << v;
     }
+    expect_repairs_to_itself(pages);
+    // A zero-area cap as the third page: once it is dropped, the two others share the edge again.
+    const TriangleMesh capped_book = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0.2}, {0.5, 0, 0}},
+                                               {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+    const TriangleMesh two_pages = repair(capped_book, {}, &report);
+    EXPECT_EQ(report.dropped_caps, 1);
+    const MeshInfo joined = expect_mended(two_pages, 2, 0.5 + 0.5 * std::sqrt(1.04), 1e-12);
+    EXPECT_EQ(joined.vertices, 4);
+    EXPECT_EQ(joined.boundary_edges, 4);  // edge 0-1 is interior
+    expect_repairs_to_itself(two_pages);
 
     RepairOptions keep;
     keep.split_nonmanifold_vertices = false;
@@ -363,6 +397,7 @@ TEST(Repair, FlipsZeroAreaCapsAwayWithoutMovingTheSurface) {
     EXPECT_NEAR(total_area(repaired), 4 * std::sqrt(3.0), 1e-12);
     EXPECT_NEAR(volume, 4.0 / 3.0, 1e-12);
     EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
+    expect_repairs_to_itself(repaired);
 
     // Kept on request.
     RepairOptions keep;
@@ -391,6 +426,7 @@ TEST(Repair, CollapsesNeedles) {
     EXPECT_EQ(info.orientation_conflicts, 0);
     EXPECT_EQ(repaired.V.row(2), Eigen::RowVector3d(0, 1, 0));  // the smaller index stays where it was
     EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
+    expect_repairs_to_itself(repaired);
 
     // Kept on request.
     RepairOptions keep;
@@ -437,6 +473,7 @@ TEST(Repair, MendsAChainOfCapsInOneCall) {
     EXPECT_EQ(info.boundary_loops, 1);
     EXPECT_NEAR(total_area(repaired), 1.0, 1e-14);  // each face of the top fan tiles part of p0-pn-top
     EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
+    expect_repairs_to_itself(repaired);
 
     // Without the top face, the first cap's long side is the boundary: the caps are dropped one
     // after the other, and p0..pn become the boundary.
@@ -483,6 +520,7 @@ TEST(Repair, DropsACapOnTheBoundary) {
     const MeshInfo info = expect_mended(repaired, 3, 1.0, 1e-15);
     EXPECT_EQ(info.boundary_loops, 1);
     EXPECT_EQ(info.boundary_edges, 5);
+    expect_repairs_to_itself(repaired);
     // A lone cap is a component of zero area: it goes, with its vertices.
     const TriangleMesh lone = repair(make_mesh({{0, 0, 0}, {2, 0, 0}, {1, 0, 0}}, {{0, 1, 2}}), {}, &report);
     EXPECT_EQ(lone.num_faces(), 0);
@@ -504,6 +542,7 @@ TEST(Repair, DropsABoundaryCapWhoseApexIsOnTheBoundaryElsewhere) {
     EXPECT_EQ(report.split_vertices, 1);
     EXPECT_EQ(expect_mended(repaired, 4, 0.9, 1e-15).components, 2);  // the square less the notch
     EXPECT_TRUE(convert(repaired).report.certificate.self_delaunay);
+    expect_repairs_to_itself(repaired);
     // Without the vertex split, the cap stays: dropping it would leave c non-manifold.
     RepairOptions keep;
     keep.split_nonmanifold_vertices = false;

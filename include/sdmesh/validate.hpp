@@ -112,6 +112,8 @@ struct RepairReport {
     int flipped_caps = 0;
     int dropped_caps = 0;  ///< caps on the boundary, dropped by flip_caps
     int dropped_vertices = 0;
+
+    friend bool operator==(const RepairReport&, const RepairReport&) = default;
 };
 
 /// Returns the repaired mesh.
