@@ -73,9 +73,11 @@ void require_oriented_manifold(const MeshInfo& info, const std::string& what);
 
 /// Safe repairs, each optional; they move a vertex by at most 1e-12 of the bounding-box diagonal
 /// (merge_coincident_vertices) or by the short side of a needle (collapse_needles), and the
-/// surface by at most the height of a zero-area face (flip_caps). Applied in this order; while
-/// that leaves fewer zero-area faces than before, all but the merge of coincident vertices and
-/// the drop of unreferenced ones run again (a cap's flip can make a needle).
+/// surface by at most the height of a zero-area face (flip_caps). Applied in this order; after a
+/// pass that mended every cap it changed something, or that left fewer zero-area faces than the
+/// one before, all but the drop of unreferenced vertices run again (a flip can make a needle or a
+/// duplicate face; a dropped cap can leave parted sheets to join). A repaired mesh with no
+/// zero-area face left, and orientable, repairs to itself: the same mesh, and a report of zeros.
 struct RepairOptions {
     /// vertices at exactly the same position become one, and so do the two ends of a face side
     /// shorter than 1e-12 of the bounding-box diagonal (the same point up to rounding); the
@@ -88,7 +90,9 @@ struct RepairOptions {
     bool drop_repeated_index_faces = true;  ///< faces with two equal indices
     bool drop_duplicate_faces = true;       ///< keep the first face of each vertex set
     /// each fan of faces around a non-manifold vertex gets its own copy of the vertex (sheets
-    /// meeting at an edge with more than two faces come apart along it, with boundaries there)
+    /// meeting at an edge with more than two faces come apart along it, with boundaries there);
+    /// a fan whose corners were all one vertex before the merge of coincident vertices gets
+    /// that vertex back (vertices at one point whose merge would be parted again stay apart)
     bool split_nonmanifold_vertices = true;
     bool orient = true;  ///< re-wind faces so each orientable component is consistent, keeping
                          ///< the orientation of its first face
