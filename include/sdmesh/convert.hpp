@@ -73,9 +73,10 @@ struct ConvertOptions {
     /// every split point, also those removed again later (their ids are not reused), so the
     /// output can hold fewer; 0 = 10·|V| + 100000.
     long long max_vertices = 0;
-    /// Stop with status budget_exhausted after this many flips; 0 = 100·|E| + 1000000. Lawson's
-    /// flips terminate in exact arithmetic, but on nearly degenerate input (coordinates spanning
-    /// many orders of magnitude) rounding can make the LD verdicts cycle.
+    /// Stop with status budget_exhausted after this many flips; 0 = 100·|E| + 1000000, |E| the
+    /// edges of the mesh as it is then (splits add edges). Lawson's flips terminate in exact
+    /// arithmetic, but on nearly degenerate input (coordinates spanning many orders of
+    /// magnitude) rounding can make the LD verdicts cycle.
     long long max_flips = 0;
     /// split (and hybrid's splits): where every position for a split point breaks a physical
     /// side, so that the split costs more vertices, up to this many positions are tried: each

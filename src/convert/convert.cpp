@@ -36,7 +36,6 @@ void Converter::run(ConversionReport& report) {
     if (options_.method == ConvertMethod::split && options_.lower_bound)
         report.added_vertices_lower_bound = added_vertices_lower_bound();
     vertex_budget_ = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
-    flip_budget_ = options_.max_flips > 0 ? options_.max_flips : 100LL * mesh_.num_edges() + 1'000'000;
     if (options_.method != ConvertMethod::flip) count_thin_corners();
     if (options_.method != ConvertMethod::flip && options_.split_rule == SplitRule::interval) split_together(report);
     drain(report);
@@ -125,7 +124,7 @@ void Converter::drain(ConversionReport& report, long long max_splits) {
         if (e < 0) break;
         if (mesh_.is_removed_edge(e) || is_delaunay(e)) continue;
         if (heals_by_flip(e)) {
-            if (report.flips >= flip_budget_) {
+            if (report.flips >= flip_budget()) {
                 report.status = ConvertStatus::budget_exhausted;
                 break;
             }

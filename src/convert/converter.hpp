@@ -831,7 +831,13 @@ private:
     std::vector<int> thin_corners_;  // by input vertex, see count_thin_corners
     std::vector<int> vertex_input_edge_;  // by split point: the input edge it lies on, -1 inside a face
     std::vector<char> removed_;  // by split point: removed again
-    long long vertex_budget_ = 0, flip_budget_ = 0;
+    long long vertex_budget_ = 0;
+    // Lawson's flips end in exact arithmetic; rounding can make them cycle. Each split adds edges
+    // that may want flips (placing an edge's points again undoes and redoes splits), so the
+    // default grows with the mesh: a CAD mesh of 8,551 edges took 1.9 million flips in all.
+    [[nodiscard]] long long flip_budget() const {
+        return options_.max_flips > 0 ? options_.max_flips : 100LL * mesh_.num_edges() + 1'000'000;
+    }
     std::vector<std::array<int, 2>> pieces_;  // by split point on an input edge: its two pieces
     // Only flips across folds (hybrid, flip) move faces; point removal, which merges faces,
     // runs only where none moves (split).
