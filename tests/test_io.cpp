@@ -682,6 +682,11 @@ TEST(Obj, MalformedInputIsParseErrorWithFileAndLine) {
     expect_parse_error(triangle + "f 1 2 +-3\n", MeshFormat::obj, "test:4:");
     expect_parse_error("v 1e999 0 0\n", MeshFormat::obj, "test:1:", "range");
     expect_parse_error("v -1e999 0 0\n", MeshFormat::obj, "test:1:", "range");
+    // Text of another format (a game's level with the .obj extension) is not an empty mesh...
+    expect_parse_error("# level 1\n****..&..****--0\n", MeshFormat::obj, "test:2:",
+                       "no vertex in the file, and '****..&..****--0' is not an OBJ statement");
+    // ... but an empty export is.
+    EXPECT_EQ(parse("# nothing\nmtllib a.mtl\no empty\ng\ns off\n", MeshFormat::obj).num_faces(), 0);
 }
 
 // ---- OFF -------------------------------------------------------------------------------------
@@ -1073,6 +1078,10 @@ TEST(Stl, MalformedInputIsParseError) {
     expect_parse_error("solid s\nvertex 0 0 0\n", MeshFormat::stl, "test:2:", "outside");
     expect_parse_error("solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 x\n", MeshFormat::stl, "test:4:", "'x'");
     expect_parse_error("solid s\nfacets\n", MeshFormat::stl, "test:2:", "facets");
+    // Text of another format (a game's level with the .stl extension) is not read as a binary STL
+    // truncated at some facet.
+    expect_parse_error("(supertux-level\n  (version 3)\n  (name (_ \"Empty Throne Room\"))\n" + std::string(90, ' ') + ")\n",
+                       MeshFormat::stl, "test: ", "text that does not start with 'solid': not an ascii STL");
 }
 
 TEST(Stl, BinaryWithASolidHeaderAndAWrongCountIsParseErrorNotAscii) {

@@ -9,7 +9,9 @@
 
 #include <algorithm>
 #include <climits>
+#include <iterator>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "io/formats.hpp"
@@ -33,9 +35,16 @@ public:
             } else if (std::any_of(keyword.begin(), keyword.end(), is_control)) {
                 // Unknown keywords are skipped, but a binary file is not an OBJ file without faces.
                 in_.fail("binary data, not an OBJ statement: " + quoted(keyword));
+            } else if (foreign_line_ == 0 && !is_obj_keyword(keyword)) {
+                foreign_line_ = in_.line();
+                foreign_keyword_ = quoted(keyword);
             }
             in_.next_line();  // also skips `w`, vertex colors and every other keyword
         }
+        // Text without a vertex is an empty mesh when its lines are OBJ's (an empty export:
+        // comments, groups, materials); with other lines, it is another format.
+        if (foreign_line_ > 0 && mesh_.num_vertices() == 0)
+            throw_at_line(file_, foreign_line_, "no vertex in the file, and " + foreign_keyword_ + " is not an OBJ statement");
         check_forward_indices();
         TriangleMesh mesh = mesh_.finish(report);
         report.skipped_line_faces = skipped_line_faces_;
@@ -43,6 +52,17 @@ public:
     }
 
 private:
+    // The statements of the OBJ specification, and comments.
+    static bool is_obj_keyword(std::string_view keyword) {
+        static constexpr std::string_view kKeywords[] = {
+            "v", "vt", "vn", "vp", "f", "fo", "l", "p", "g", "o", "s", "mg", "mtllib", "usemtl", "maplib",
+            "usemap", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv",
+            "sp", "end", "con", "bevel", "c_interp", "d_interp", "lod", "shadow_obj", "trace_obj", "ctech",
+            "stech", "call", "csh"};
+        return keyword.starts_with('#') ||
+               std::find(std::begin(kKeywords), std::end(kKeywords), keyword) != std::end(kKeywords);
+    }
+
     static bool is_control(char c) {
         const auto byte = static_cast<unsigned char>(c);
         return byte < 0x20 || byte == 0x7f;
@@ -106,6 +126,8 @@ private:
     long long max_index_ = 0;     // largest positive index seen, and where
     long long max_index_line_ = 0;
     long long skipped_line_faces_ = 0;
+    long long foreign_line_ = 0;  // the first line whose keyword OBJ does not have, and that keyword
+    std::string foreign_keyword_;
 };
 
 }  // namespace

@@ -90,6 +90,15 @@ void parse_binary(std::string_view bytes, std::string_view file, MeshBuilder& me
     }
     const std::uint32_t n = binary_facet_count(bytes);
     const std::size_t expected = kHeaderBytes + kFacetBytes * std::size_t{n};
+    // A binary STL's floats hold control bytes; a text file of another format has none.
+    if (bytes.size() != expected && std::none_of(bytes.begin(), bytes.end(), [](char c) {
+            const auto byte = static_cast<unsigned char>(c);
+            return (byte < 0x20 && !std::isspace(byte)) || byte == 0x7f;
+        })) {
+        fail("text that does not start with 'solid': not an ascii STL, and read as a binary one its header "
+             "declares " + std::to_string(n) + " facets (" + std::to_string(expected) + " bytes) in " +
+             std::to_string(bytes.size()) + " bytes");
+    }
     if (bytes.size() > expected) {
         fail("the binary STL header declares " + std::to_string(n) + " facets (" +
              std::to_string(expected) + " bytes) but the file has " + std::to_string(bytes.size()) +
