@@ -141,6 +141,10 @@ inline std::vector<BadFile> broken_files() {
         {"unknown_encoding.ply", "ply\nformat binary_middle_endian 1.0\nelement vertex 0\nend_header\n", kUnsupported},
         {"binary_garbage.obj", std::string("\x7f" "ELF\x02\x01\x01\0\0\0\0\0\0\0\0\0", 16), kMalformed},
         {"not_solid.stl", "hello\nfacet normal 0 0 0\n", kMalformed},
+        // Text of other formats under a mesh's extension (games' levels): not empty meshes.
+        {"level.stl", "(supertux-level\n  (version 3)\n  (name \"Empty Throne Room\")\n" + std::string(60, ' ') + ")\n",
+         kMalformed},
+        {"level.obj", "****..&..****--0\n***....&....***--1\n", kMalformed},
         // indices out of range, negative, zero where one-based is required
         {"index_out_of_range.obj", obj_vertices + "f 1 2 3\nf 1 3 9\n", kMalformed},
         {"index_zero.obj", obj_vertices + "f 0 1 2\n", kMalformed},

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Converts every mesh that thirteen Debian packages ship, none of them used in development.
+"""Converts every mesh that thirty-six Debian packages ship, none of them used in development.
 
     sweep.py SDMESH OUT [--work DIR] [--jobs N] [--timeout SECONDS] [--no-download]
 
@@ -11,14 +11,18 @@ tests, broken files included) and openscad-testing-data (OpenSCAD's STL tests):
 
     apt-get install libcgal-demo occt-misc geomview assimp-testmodels openscad-testing-data
 
-and from eight packages that are downloaded (`apt-get download`) and unpacked into DIR/debs
-rather than installed, since some pull in a desktop: cura (3D printers' beds), prusa-slicer
-(printers' beds and its shape gallery), minetest-data (a game's models), openfoam-examples
-(the surfaces of OpenFOAM's tutorials, mostly gzipped), sweethome3d-furniture (820 OBJ models
-of furniture, plants and people, in zip archives that are unpacked too), stellarium-data (shape
-models of asteroids and moons, and two observatories' scenery), gmsh-doc and netgen-doc (the STL
-surfaces of two mesh generators' demos and tutorials). Without a network, or
-with --no-download, those are left out.
+and from thirty-one packages that are downloaded (`apt-get download`) and unpacked into
+DIR/debs rather than installed, since some pull in a desktop: cura (3D printers' beds),
+prusa-slicer (printers' beds and its shape gallery), minetest-data (a game's models),
+openfoam-examples (the surfaces of OpenFOAM's tutorials, mostly gzipped), sweethome3d-furniture
+(820 OBJ models of furniture, plants and people, in zip archives that are unpacked too),
+stellarium-data (shape models of asteroids and moons, and two observatories' scenery), gmsh-doc
+and netgen-doc (the STL surfaces of two mesh generators' demos and tutorials), and the
+twenty-three of DOWNLOADED's last lines (robots' links from dart-doc, libsimbody-dev and
+linuxcnc; games' models, and SuperTux's and gravitywars' levels, text of other formats with a
+mesh's extension; LIGGGHTS's and yade's walls; InVesalius's, OpenCV's, matgeom's, mayavi's and
+Qt's samples; Uranium's reader tests). Without a network, or with --no-download, those are left
+out.
 
 Each mesh is converted with the default split method and with hybrid at 10°, under a time limit
 (an invalid one again with --repair).
@@ -58,7 +62,25 @@ DOWNLOADED = (("cura", "usr/share/cura"), ("prusa-slicer", "usr/share/PrusaSlice
               ("openfoam-examples", "usr/share/doc/openfoam-examples/examples"),
               ("sweethome3d-furniture", "usr/share/sweethome3d/furniture"),
               ("stellarium-data", "usr/share/stellarium"), ("gmsh-doc", "usr/share/doc/gmsh-doc"),
-              ("netgen-doc", "usr/share/doc/netgen/examples"))
+              ("netgen-doc", "usr/share/doc/netgen/examples"),
+              # Robots' links, games' models (and levels of other formats with a mesh's extension),
+              # simulation examples, medical and vision samples, file readers' tests.
+              ("dart-doc", "usr/share/doc/dart/data"), ("libsimbody-dev", "usr/share/doc/simbody/examples/src"),
+              ("linuxcnc-uspace", "usr"), ("minetest-mod-homedecor", "usr/share/games/minetest/mods/homedecor"),
+              ("minetest-mod-pipeworks", "usr/share/games/minetest/mods/pipeworks/models"),
+              ("minetest-mod-moreblocks", "usr/share/games/minetest/mods/moreblocks/models"),
+              ("neverball-common", "usr/share/games/neverball"), ("etw-data", "usr/share/games/etw"),
+              ("bouncy", "usr/share/games/bouncy/data"), ("brutalchess", "usr/share/games/brutalchess/models"),
+              ("gltron", "usr/share/games/gltron/data"), ("gravitywars", "usr/share/games/gravitywars/levels"),
+              ("supertux-data", "usr/share/games/supertux2/levels"),
+              ("liggghts-doc", "usr/share/doc/liggghts/examples/LIGGGHTS/Tutorials_public"),
+              ("yade", "usr/share/doc/yade/examples"), ("sumo-tools", "usr/share/sumo/data/3D"),
+              ("invesalius", "usr/share/invesalius/navigation/objects"),
+              ("opencv-doc", "usr/share/doc/opencv-doc/examples"),
+              ("octave-matgeom", "usr/share/octave/packages/matgeom-1.2.3/meshes3d"), ("mayavi2", "usr"),
+              ("qtdatavisualization5-examples", "usr/lib/x86_64-linux-gnu/qt5/examples/datavisualization"),
+              ("uranium-plugins", "usr/lib/uranium/plugins/FileHandlers"),
+              ("structure-synth", "usr/share/structure-synth/Misc"))
 MESH_SUFFIXES = (".off", ".obj", ".ply", ".stl")
 METHODS = {"split": [], "hybrid-10": ["--method", "hybrid", "--max-dihedral", "10"]}
 # sdmesh's exit codes (README, "Exit codes"): 0 certified, 1 not certified, 4 unsupported format,
