@@ -1081,7 +1081,7 @@ TEST(Stl, MalformedInputIsParseError) {
     // Text of another format (a game's level with the .stl extension) is not read as a binary STL
     // truncated at some facet.
     expect_parse_error("(supertux-level\n  (version 3)\n  (name (_ \"Empty Throne Room\"))\n" + std::string(90, ' ') + ")\n",
-                       MeshFormat::stl, "test: ", "text that does not start with 'solid': not an ascii STL");
+                       MeshFormat::stl, "test: ", "text that does not start with 'solid': neither an ascii nor a binary STL");
 }
 
 TEST(Stl, BinaryWithASolidHeaderAndAWrongCountIsParseErrorNotAscii) {

@@ -95,9 +95,7 @@ void parse_binary(std::string_view bytes, std::string_view file, MeshBuilder& me
             const auto byte = static_cast<unsigned char>(c);
             return (byte < 0x20 && !std::isspace(byte)) || byte == 0x7f;
         })) {
-        fail("text that does not start with 'solid': not an ascii STL, and read as a binary one its header "
-             "declares " + std::to_string(n) + " facets (" + std::to_string(expected) + " bytes) in " +
-             std::to_string(bytes.size()) + " bytes");
+        fail("text that does not start with 'solid': neither an ascii nor a binary STL");
     }
     if (bytes.size() > expected) {
         fail("the binary STL header declares " + std::to_string(n) + " facets (" +
