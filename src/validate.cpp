@@ -607,8 +607,8 @@ TriangleMesh repair(const TriangleMesh& mesh, const RepairOptions& options, Repa
     // the vertex across its long side may be copies of one split vertex, or nearly one point) or
     // a face that duplicates one on a sheet the split parted, and a dropped cap can leave two such
     // sheets on an edge with two faces, to be joined again. So the steps run again after a pass
-    // that mended every cap it changed something, or that left fewer zero-area faces than the
-    // one before (mending stops at a budget of flips).
+    // that mended caps and left none, or that left fewer zero-area faces than the pass before
+    // (mending stops at a budget of flips).
     constexpr int kMaxPasses = 8;
     for (int pass = 0, zero_area_before = INT_MAX; pass < kMaxPasses; ++pass) {
         const bool coincident = options.merge_coincident_vertices;

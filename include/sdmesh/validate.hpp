@@ -74,8 +74,8 @@ void require_oriented_manifold(const MeshInfo& info, const std::string& what);
 /// Safe repairs, each optional; they move a vertex by at most 1e-12 of the bounding-box diagonal
 /// (merge_coincident_vertices) or by the short side of a needle (collapse_needles), and the
 /// surface by at most the height of a zero-area face (flip_caps). Applied in this order; after a
-/// pass that mended every cap it changed something, or that left fewer zero-area faces than the
-/// one before, all but the drop of unreferenced vertices run again (a flip can make a needle or a
+/// pass that mended caps and left none, or that left fewer zero-area faces than the pass before,
+/// all but the drop of unreferenced vertices run again (a flip can make a needle or a
 /// duplicate face; a dropped cap can leave parted sheets to join). A repaired mesh with no
 /// zero-area face left, and orientable, repairs to itself: the same mesh, and a report of zeros.
 struct RepairOptions {
