@@ -95,7 +95,10 @@ int run_convert(Args& args) {
         std::cerr << "sdmesh convert: " << paths[1] << ": not certified (" << to_string(r.status) << ", "
                   << r.certificate.non_delaunay_edges << " non-Delaunay edges and "
                   << r.certificate.boundary_obtuse_edges
-                  << " obtuse boundary edges that flips cannot fix; --method split certifies)\n";
+                  << (options.method == ConvertMethod::flip
+                          ? " obtuse boundary edges that flips cannot fix; --method split certifies)\n"
+                          : " obtuse boundary edges left where a split point would fall on a vertex, beside "
+                            "faces of nearly zero area; --method hybrid or --repair may help)\n");
     return r.status == ConvertStatus::certified ? kSuccess : kNotSelfDelaunay;
 }
 

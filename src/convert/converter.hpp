@@ -775,6 +775,21 @@ private:
 
     // Splits e at distance `at` from the tail of its halfedge, by default where split_distance says.
     void split(int e, std::optional<double> at = std::nullopt);
+    // The point at distance t from a on the hinge's edge a-b of length l.
+    Eigen::Vector3d point_on(const Hinge& k, double l, double t) const {
+        return P_[k.a] + (std::clamp(t, 0.0, l) / l) * (P_[k.b] - P_[k.a]);
+    }
+    // Whether the split point at t would be a vertex of the hinge: where faces of nearly zero area
+    // (a CAD file's caps, 1e-9° off straight) leave hinge vertices on one line, a split point can
+    // fall on one of them exactly, and the next split on the same spot; that ran to any vertex
+    // budget, making thousands of vertices at one position. The edge is left as it is instead,
+    // and the output is not certified.
+    bool lands_on_hinge_vertex(const Hinge& k, double l, double t) const {
+        const Eigen::Vector3d x = point_on(k, l, t);
+        for (const int v : {k.a, k.b, k.r, k.s})
+            if (v >= 0 && x == P_[v]) return true;
+        return false;
+    }
 
     // Flat candidates first (cheap flips; see FlipQueue), then physical ones by queue_key.
     // Edges are pushed whenever their hinge changes, so one that is locally Delaunay then can
