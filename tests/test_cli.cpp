@@ -87,12 +87,6 @@ TEST_F(Cli, AConversionThatIsNotCertifiedSaysWhyInOneLine) {
               std::string::npos)
         << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    // Split points that would fall on vertices are not made (ConvertMethods.APlateOfTinyFolds...).
-    const std::string plate = std::string(SDMESH_TEST_DATA_DIR) + "/rounded_switch_plate.obj";
-    r = run_cli("convert " + plate + " " + path("plate.obj") + " --cascade-trials 8");
-    EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("left where a split point would fall on a vertex"), std::string::npos) << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
 TEST_F(Cli, NoHausdorffReportsNullInsteadOfADistance) {

@@ -767,26 +767,6 @@ TEST(ConvertMethods, APleatedFanEndsOnShellsAroundItsApex) {
         }
 }
 
-// A plate whose faces are 1e-6 rad off one plane (coordinates rounded to six digits) is a fan of
-// 22 folds at a vertex on its rim. Pieces between two split points near that vertex took the
-// interval rule, which put the shells' rings out of step again: with 8 cascade trials the
-// points marched to 2e-13 of it until the vertex budget (more than 50,000 vertices). Every
-// piece deep in such a cascade now takes the shells around the vertex: 449-2,770 vertices,
-// certified. With 8 trials the rings still close only at the precision of the coordinates,
-// where split points fell on vertices; such splits are not made, and the conversion ends not
-// certified (3,440 vertices, 18 edges left) instead of "certified" with coincident vertices.
-TEST(ConvertMethods, APlateOfTinyFoldsEndsOnShellsAroundItsRimVertex) {
-    const TriangleMesh plate = read_mesh(std::string(SDMESH_TEST_DATA_DIR) + "/rounded_switch_plate.obj");
-    for (const int trials : {0, 2, 4, 6, 8, 16}) {
-        const ConversionReport r = convert(plate, {.max_vertices = 50000, .cascade_trials = trials}).report;
-        if (trials != 8) {
-            EXPECT_EQ(r.status, ConvertStatus::certified) << trials << " trials";
-        }
-        EXPECT_NE(r.status, ConvertStatus::budget_exhausted) << trials << " trials";
-        EXPECT_LT(r.output_vertices, 5000) << trials << " trials";
-    }
-}
-
 // Local search only takes what pays: fewer vertices or none saved, never more, and the same
 // output on every run. (It saves 3 vertices on the bunny and none on the others.)
 TEST(ConvertMethods, LocalSearchKeepsOnlyWhatSavesVertices) {

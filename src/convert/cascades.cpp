@@ -51,8 +51,6 @@ void Converter::split_across_strips(int first, ConversionReport& report, bool lo
             position = split_distance(k, l, trials ? &alternatives_ : nullptr);
             if (trials && alternatives_.size() > 1) position = fewest_splits_after(cut.edge, alternatives_);
         }
-        if (lands_on_hinge_vertex(k, l, position)) position = 0.5 * l;
-        if (lands_on_hinge_vertex(k, l, position)) continue;
         split(cut.edge, position);
         ++report.splits;
         for (int i = 0; i < outer.count; ++i)

@@ -207,7 +207,8 @@ void Converter::flip(int e) {
 void Converter::split(int e, std::optional<double> at) {
     const Hinge k = hinge(e);
     const double l = dist(k.a, k.b);
-    const Eigen::Vector3d x = point_on(k, l, at ? *at : split_distance(k, l));
+    const double t = std::clamp(at ? *at : split_distance(k, l), 0.0, l);
+    const Eigen::Vector3d x = P_[k.a] + (t / l) * (P_[k.b] - P_[k.a]);
     const int first_new_edge = mesh_.num_edges();
     std::vector<int> outer = {mesh_.edge(HalfedgeMesh::next(k.h)), mesh_.edge(HalfedgeMesh::prev(k.h))};
     if (k.s >= 0) {

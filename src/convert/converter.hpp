@@ -47,10 +47,6 @@ constexpr double kShellPieceFraction = 0.25;
 // Pieces this much shorter than their input edge, with one end at an input vertex, are a cascade
 // converging on that vertex: they always take the shells, which end it (see split_distance).
 constexpr double kConvergingPieceFraction = 1.0 / 64;
-// ... and so do pieces between two split points within this fraction of the input edge's length
-// from its end (a zone of 1/64 there cost a pleated fan up to 33 % more points; 1/256 to 1e-6
-// measured alike).
-constexpr double kDeepCascadeFraction = 1.0 / 4096;
 // Split points next to a plane with more points than this are not removed (quadratic work).
 constexpr int kMaxPlanePoints = 2048;
 // Interval points stay this fraction of the piece away from its ends, so that piece lengths
@@ -775,21 +771,6 @@ private:
 
     // Splits e at distance `at` from the tail of its halfedge, by default where split_distance says.
     void split(int e, std::optional<double> at = std::nullopt);
-    // The point at distance t from a on the hinge's edge a-b of length l.
-    Eigen::Vector3d point_on(const Hinge& k, double l, double t) const {
-        return P_[k.a] + (std::clamp(t, 0.0, l) / l) * (P_[k.b] - P_[k.a]);
-    }
-    // Whether the split point at t would be a vertex of the hinge: where faces of nearly zero area
-    // (a CAD file's caps, 1e-9° off straight) leave hinge vertices on one line, a split point can
-    // fall on one of them exactly, and the next split on the same spot; that ran to any vertex
-    // budget, making thousands of vertices at one position. The edge is left as it is instead,
-    // and the output is not certified.
-    bool lands_on_hinge_vertex(const Hinge& k, double l, double t) const {
-        const Eigen::Vector3d x = point_on(k, l, t);
-        for (const int v : {k.a, k.b, k.r, k.s})
-            if (v >= 0 && x == P_[v]) return true;
-        return false;
-    }
 
     // Flat candidates first (cheap flips; see FlipQueue), then physical ones by queue_key.
     // Edges are pushed whenever their hinge changes, so one that is locally Delaunay then can

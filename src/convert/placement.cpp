@@ -33,16 +33,9 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
         (on_input_edge < 0 || l < kShellPieceFraction * input_length_[on_input_edge]);
     // Interval points can march towards an input vertex for ever, each out of step with the
     // last on the next edge (a pleated fan of 64 slightly noisy spokes, 5.6° apart: 55,336
-    // vertices, the points 1e-15 from the apex); shells there close the rings. Deeper in such a
-    // cascade, pieces between two split points take them too: the interval rule there put the
-    // rings out of step again (a plate's fan of 22 folds 1e-6 rad off flat ran out of its vertex
-    // budget: ConvertMethods.APlateOfTinyFoldsEndsOnShellsAroundItsRimVertex).
-    if (on_input_edge >= 0)
-        for (const int c : {input_edges_.E(on_input_edge, 0), input_edges_.E(on_input_edge, 1)}) {
-            const bool at_c = k.a == c || k.b == c;
-            const double zone = (at_c ? kConvergingPieceFraction : kDeepCascadeFraction) * input_length_[on_input_edge];
-            if (std::max(dist(c, k.a), dist(c, k.b)) < zone) return shell_distance_around(c, k, l);
-        }
+    // vertices, the points 1e-15 from the apex); shells there close the rings.
+    if (near_input_vertex && on_input_edge >= 0 && l < kConvergingPieceFraction * input_length_[on_input_edge])
+        return shell_distance(k, l);
     // Hard constraint: I0, where both halves are locally Delaunay.
     const Interval halves = delaunay_halves_interval(k, l);
     auto away_from_ends = [&](double clearance) { return Converter::away_from_ends(halves, l, clearance); };
