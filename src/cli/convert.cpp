@@ -97,8 +97,7 @@ int run_convert(Args& args) {
                   << r.certificate.boundary_obtuse_edges
                   << (options.method == ConvertMethod::flip
                           ? " obtuse boundary edges that flips cannot fix; --method split certifies)\n"
-                          : " obtuse boundary edges left beside faces of nearly zero area; --method hybrid "
-                            "or --repair may help)\n");
+                          : " obtuse boundary edges left; --method hybrid or --repair may help)\n");
     return r.status == ConvertStatus::certified ? kSuccess : kNotSelfDelaunay;
 }
 
