@@ -72,6 +72,7 @@ struct HingeVerdicts {
     double angle[kBlock];         // pseudo_angle of the margin
     double non_delaunay[kBlock];  // margin < -tolerance
     double gabriel[kBlock];       // an apex strictly inside the other face's circumsphere
+    double collinear[kBlock];     // a face of the hinge has zero area: no angles
 };
 
 // Judges hinges [0, size) of a block as interior edges.
@@ -98,6 +99,7 @@ void judge_hinges(const HingeLengths& in, int size, double tan_tolerance, double
         const double cot_sum = margin.y / (w0.area4 * w1.area4);  // sin(α + β) / (sin α sin β)
         out.term[k] = l2 * cot_sum / 8.0;
         out.gabriel[k] = inside(w0, l2, w1.b2, w1.c2, in.op[k]) || inside(w1, l2, w0.b2, w0.c2, in.op[k]) ? 1.0 : 0.0;
+        out.collinear[k] = w0.area4 > 0 && w1.area4 > 0 ? 0.0 : 1.0;
     }
 }
 
@@ -187,11 +189,13 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
     // the same for any split of the edges.
     struct Tally {
         int interior = 0, boundary = 0, nonmanifold = 0, non_delaunay = 0, obtuse = 0, gabriel = 0;
+        int beside_collinear = 0;  // manifold edges with a zero-area face
         double worst_angle = std::numeric_limits<double>::infinity();  // pseudo_angle of the margin
         int worst_edge = -1;
         void add(const Tally& other) {
             interior += other.interior, boundary += other.boundary, nonmanifold += other.nonmanifold;
             non_delaunay += other.non_delaunay, obtuse += other.obtuse, gabriel += other.gabriel;
+            beside_collinear += other.beside_collinear;
             if (other.worst_angle < worst_angle || (other.worst_angle == worst_angle && other.worst_edge < worst_edge))
                 worst_angle = other.worst_angle, worst_edge = other.worst_edge;
         }
@@ -237,12 +241,14 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
                 ++n.interior;
                 n.non_delaunay += verdict.non_delaunay[k] != 0;
                 n.gabriel += verdict.gabriel[k] != 0;
+                n.beside_collinear += verdict.collinear[k] != 0;
                 if (verdict.angle[k] < n.worst_angle) n.worst_angle = verdict.angle[k], n.worst_edge = e;
                 term[k] = verdict.term[k];
             } else if (count == 1) {
                 ++n.boundary;
                 const Wing w = wing(std::sqrt(hinge.ij[k]), hinge.oi[k], hinge.oj[k]);
                 n.obtuse += w.cosine < -tan_tol * w.area4;  // π/2 - α < -tol
+                n.beside_collinear += !(w.area4 > 0);
                 term[k] = hinge.ij[k] * (w.cosine / w.area4) / 8.0;
             } else {
                 ++n.nonmanifold;
@@ -328,10 +334,22 @@ DelaunayCertificate certify(const TriangleMesh& mesh, const EdgeTable& edges,
 
     cert.repeated_index_faces = 0;
     for (int f = 0; f < num_faces; ++f) cert.repeated_index_faces += has_repeated_index(F, f);
+    // Faces are counted one by one only when the edges saw one (or could not: a face whose
+    // edges are all non-manifold is not judged through them).
+    if (n.beside_collinear > 0 || n.nonmanifold > 0) {
+        int collinear = 0;
+#pragma omp parallel for schedule(static) reduction(+ : collinear)
+        for (int f = 0; f < num_faces; ++f) {
+            const Eigen::Vector3d &p = P[F(f, 0)], &q = P[F(f, 1)], &r = P[F(f, 2)];
+            collinear += !has_repeated_index(F, f) && !(triangle_area(distance(q, r), distance(r, p), distance(p, q)) > 0);
+        }
+        cert.collinear_faces = collinear;
+    }
     cert.nonmanifold_vertices = static_cast<int>(edges.nonmanifold_vertices.size());
     const bool boundary_ok = options.boundary == BoundaryPolicy::free || cert.boundary_obtuse_edges == 0;
     cert.self_delaunay = cert.nonmanifold_edges == 0 && cert.nonmanifold_vertices == 0 &&
-                         cert.repeated_index_faces == 0 && cert.non_delaunay_edges == 0 && boundary_ok;
+                         cert.repeated_index_faces == 0 && cert.collinear_faces == 0 && cert.non_delaunay_edges == 0 &&
+                         boundary_ok;
     return cert;
 }
 

@@ -44,7 +44,7 @@ TEST_F(Cli, CheckJsonHasTheDocumentedKeys) {
          {"vertices", "faces", "edges", "components", "boundary_edges", "boundary_loops", "nonmanifold_edges",
           "nonmanifold_vertices", "degenerate_faces", "euler_characteristic", "interior_edges",
           "non_delaunay_edges", "boundary_obtuse_edges", "min_delaunay_margin", "negative_dual_cells",
-          "negative_cotan_weights", "gabriel_violations", "self_delaunay"})
+          "negative_cotan_weights", "gabriel_violations", "collinear_faces", "self_delaunay"})
         EXPECT_NE(r.out.find(std::string(1, '"').append(key).append("\": ")), std::string::npos) << key;
     EXPECT_NE(r.out.find("\"faces\": 3674"), std::string::npos);
     EXPECT_NE(r.out.find("\"self_delaunay\": false"), std::string::npos);

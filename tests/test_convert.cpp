@@ -880,20 +880,34 @@ TEST(ConvertMethods, BudgetTurnsIntoAStatus) {
     EXPECT_TRUE(validate(result.mesh).manifold());
 }
 
-// Found by fuzz_pipeline: coordinates spanning twelve orders of magnitude make the hybrid
-// method's flips cycle in rounding (26 million flips in 10 s before the flip budget).
-TEST(ConvertMethods, FlipBudgetStopsACycleOnNearlyDegenerateInput) {
+// Found by fuzz_pipeline: a sliver with coordinates spanning twelve orders of magnitude. Hybrid's
+// first split point made a face without angles (its sides summing in rounding), and flips
+// turned it over and back: 26 million flips in 10 s before the flip budget. A split point now
+// keeps the faces' angles where it can, and a flip makes no face without them.
+TEST(ConvertMethods, ASliverOfTwelveOrdersOfMagnitudeIsCertified) {
     const TriangleMesh sliver =
         make_mesh({{1.7142084551807596e+29, 7.0963984940413558e+22, 9.2215416197638956e-39},
                    {5.1766630420409794e+22, 3.0027037082335752e-33, 1.8087157539161875e+22},
                    {4.1538374868278621e+34, 7.5030819292227174e+28, 3.5118726900087507e+25}},
                   {{0, 1, 2}});
-    const ConversionResult result =
-        convert(sliver, {.method = ConvertMethod::hybrid, .max_vertices = 2000, .max_flips = 100000});
-    EXPECT_EQ(result.report.status, ConvertStatus::budget_exhausted);
-    EXPECT_LE(result.report.flips, 100000);
-    EXPECT_TRUE(validate(result.mesh).manifold());
-    EXPECT_THROW(convert(sliver, {.max_flips = -1}), InvalidArgumentError);
+    for (const ConvertMethod method : {ConvertMethod::split, ConvertMethod::hybrid}) {
+        const ConversionResult result = convert(sliver, {.method = method});
+        EXPECT_EQ(result.report.status, ConvertStatus::certified) << to_string(method);
+        EXPECT_EQ(result.report.flips, 0) << to_string(method);
+        EXPECT_TRUE(certify(result.mesh).self_delaunay) << to_string(method);
+    }
+}
+
+// The flip budget ends a run that would take more flips with a status, not a hang.
+TEST(ConvertMethods, FlipBudgetTurnsIntoAStatus) {
+    const TriangleMesh fan = make_flat_fan(200);
+    for (const ConvertMethod method : {ConvertMethod::split, ConvertMethod::flip}) {
+        const ConversionResult result = convert(fan, {.method = method, .max_flips = 50});
+        EXPECT_EQ(result.report.status, ConvertStatus::budget_exhausted) << to_string(method);
+        EXPECT_EQ(result.report.flips, 50) << to_string(method);
+        EXPECT_TRUE(validate(result.mesh).manifold()) << to_string(method);
+    }
+    EXPECT_THROW(convert(fan, {.max_flips = -1}), InvalidArgumentError);
 }
 
 TEST(ConvertMethods, RejectsInvalidInput) {

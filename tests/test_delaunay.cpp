@@ -121,6 +121,36 @@ TEST(Certificate, NegativeDualCellIsReported) {
     EXPECT_NEAR(cert.dual_area.sum(), test::total_area(fan), 1e-14);
 }
 
+// A square split at a point with the coordinates of its corner a: face (a, x, c) has a side of
+// length 0 and no angles. Its hinges' scaled margins are (0, 0), which read as locally Delaunay,
+// so only the face count keeps such a mesh (what a split on a vertex makes) from being certified.
+TEST(Certificate, FacesWithoutAnglesAreNotCertified) {
+    TriangleMesh square;
+    square.V.resize(5, 3);
+    square.V << 0, 0, 0,  //
+        1, 0, 0,          //
+        1, 1, 0,          //
+        0, 1, 0,          //
+        0, 0, 0;          // x, on a
+    square.F.resize(3, 3);
+    square.F << 0, 4, 2,  //
+        4, 1, 2,          //
+        0, 2, 3;
+    const DelaunayCertificate cert = certify(square);
+    EXPECT_EQ(cert.non_delaunay_edges, 0);
+    EXPECT_EQ(cert.boundary_obtuse_edges, 0);
+    EXPECT_EQ(cert.collinear_faces, 1);
+    EXPECT_FALSE(cert.self_delaunay);
+
+    square.V(4, 0) = 0.5;  // x in the middle of a-b, with the diagonals x-c and x-d
+    square.F << 0, 4, 3,   //
+        4, 2, 3,           //
+        4, 1, 2;
+    const DelaunayCertificate moved = certify(square);
+    EXPECT_EQ(moved.collinear_faces, 0);
+    EXPECT_TRUE(moved.self_delaunay);
+}
+
 TEST(Certificate, VerdictsAreScaleInvariant) {
     for (const TriangleMesh& base : {make_grid(6, 5, 1.0, 1.0, 1.7), test::make_negative_dual_fan(), make_icosphere(2)}) {
         const DelaunayCertificate reference = certify(base);
@@ -133,6 +163,7 @@ TEST(Certificate, VerdictsAreScaleInvariant) {
             EXPECT_EQ(cert.boundary_obtuse_edges, reference.boundary_obtuse_edges);
             EXPECT_EQ(cert.negative_dual_cells, reference.negative_dual_cells);
             EXPECT_EQ(cert.gabriel_violations, reference.gabriel_violations);
+            EXPECT_EQ(cert.collinear_faces, reference.collinear_faces);
             EXPECT_EQ(cert.self_delaunay, reference.self_delaunay);
             EXPECT_NEAR(cert.min_delaunay_margin, reference.min_delaunay_margin, 1e-13);
         }

@@ -120,6 +120,10 @@ struct DelaunayCertificate {
     int nonmanifold_edges = 0;       ///< edges with three or more faces (not judged)
     int nonmanifold_vertices = 0;    ///< vertices with more than one fan (see topology.hpp)
     int repeated_index_faces = 0;    ///< faces with a repeated vertex (ignored)
+    /// Faces whose area from their side lengths (Kahan's formula) is 0: collinear or coincident
+    /// corners, so no angles and no cotan weights. (MeshInfo::zero_area_faces is a coarser test,
+    /// for repairs: area <= 1e-12 of the longest side squared.)
+    int collinear_faces = 0;
     int non_delaunay_edges = 0;      ///< interior edges with margin < -tolerance
     int boundary_obtuse_edges = 0;   ///< boundary edges with margin < -tolerance (any policy)
     int negative_cotan_weights = 0;  ///< interior + boundary edges whose cotan weight is < 0
@@ -131,8 +135,8 @@ struct DelaunayCertificate {
     double min_delaunay_margin = std::numeric_limits<double>::infinity();
     int worst_edge = -1;
 
-    /// Every edge manifold, every vertex manifold, no repeated-index face, every interior edge
-    /// LD and, under the strict policy, every boundary edge LD.
+    /// Every edge manifold, every vertex manifold, no repeated-index or collinear face, every
+    /// interior edge LD and, under the strict policy, every boundary edge LD.
     bool self_delaunay = false;
 };
 

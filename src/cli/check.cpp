@@ -101,6 +101,7 @@ int run_check(Args& args) {
         std::printf("  negative cotan w.   %d\n", cert.negative_cotan_weights);
         std::printf("  negative dual cells %d\n", cert.negative_dual_cells);
         std::printf("  Gabriel violations  %d\n", cert.gabriel_violations);
+        std::printf("  collinear faces     %d (area 0: no angles)\n", cert.collinear_faces);
         if (!in.info.manifold())
             std::printf("  non-manifold        %d edges, %d vertices, %d faces with a repeated index\n",
                         in.info.nonmanifold_edges, in.info.nonmanifold_vertices, in.info.repeated_index_faces);

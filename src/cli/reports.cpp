@@ -111,6 +111,7 @@ JsonObject certificate_json(const DelaunayCertificate& cert, const CertifyOption
         .add("negative_dual_cells", cert.negative_dual_cells)
         .add("negative_cotan_weights", cert.negative_cotan_weights)
         .add("gabriel_violations", cert.gabriel_violations)
+        .add("collinear_faces", cert.collinear_faces)
         .add("boundary_policy", to_string(options.boundary))
         .add("tolerance", options.tolerance)
         .add("self_delaunay", cert.self_delaunay);

@@ -51,7 +51,7 @@ void Converter::split_across_strips(int first, ConversionReport& report, bool lo
             position = split_distance(k, l, trials ? &alternatives_ : nullptr);
             if (trials && alternatives_.size() > 1) position = fewest_splits_after(cut.edge, alternatives_);
         }
-        split(cut.edge, position);
+        if (!split(cut.edge, position)) continue;
         ++report.splits;
         for (int i = 0; i < outer.count; ++i)
             if (const std::optional<double> across = strip_cut(sides[i]); across)
@@ -77,7 +77,8 @@ long long Converter::splits_after(int e, double t, long long at_most) {
     begin_trial();
     ConversionReport trial;
     split_across_strips(e, trial, false, t);
-    for (long long flips = 0; trial.splits < kTrialSplits && trial.splits < at_most && flips < kTrialFlips;) {
+    const bool refused = trial.splits == 0;  // the point would make a face without angles
+    for (long long flips = 0; !refused && trial.splits < kTrialSplits && trial.splits < at_most && flips < kTrialFlips;) {
         const int g = pop();
         if (g < 0 || mesh_.num_vertices() >= vertex_budget_) break;
         if (mesh_.is_removed_edge(g) || is_delaunay(g)) continue;
@@ -89,7 +90,7 @@ long long Converter::splits_after(int e, double t, long long at_most) {
         }
     }
     trial_splits_ += trial.splits;
-    long long cost = trial.splits;
+    long long cost = refused ? std::numeric_limits<long long>::max() / 2 : trial.splits;
     auto still_to_split = [&](int g) {
         return !mesh_.is_removed_edge(g) && !is_delaunay(g) && !heals_by_flip(g);
     };
@@ -237,8 +238,7 @@ void Converter::split_together(ConversionReport& report) {
     for (size_t i = 0; i < group.size() && mesh_.num_vertices() < vertex_budget_; ++i) {
         if (group[i].left_out) continue;
         const bool same_way = hinge(group[i].e).a == group[i].k.a;
-        split(group[i].e, same_way ? position[i] : group[i].l - position[i]);
-        ++report.splits;
+        report.splits += split(group[i].e, same_way ? position[i] : group[i].l - position[i]);
     }
 }
 

@@ -204,11 +204,41 @@ void Converter::flip(int e) {
     }
 }
 
-void Converter::split(int e, std::optional<double> at) {
+bool Converter::keeps_angles(const Hinge& k, const Eigen::Vector3d& x) const {
+    const double ax = distance(P_[k.a], x), bx = distance(P_[k.b], x);
+    for (const int apex : {k.r, k.s}) {
+        if (apex < 0) continue;
+        const double apex_x = distance(P_[apex], x);
+        if (!(triangle_area(ax, apex_x, dist(k.a, apex)) > 0 && triangle_area(bx, apex_x, dist(k.b, apex)) > 0))
+            return false;
+    }
+    return true;
+}
+
+std::optional<Eigen::Vector3d> Converter::split_point(const Hinge& k, double l, double t) const {
+    auto at = [&](double u) -> Eigen::Vector3d { return P_[k.a] + (std::clamp(u, 0.0, l) / l) * (P_[k.b] - P_[k.a]); };
+    const Eigen::Vector3d x = at(t);
+    if (keeps_angles(k, x)) return x;
+    // An apex within rounding of the edge near one end (in spikes 1e9 times longer than wide)
+    // leaves angles only to points about as close to that end.
+    auto nearest_apex = [&](int end) { return k.s < 0 ? dist(end, k.r) : std::min(dist(end, k.r), dist(end, k.s)); };
+    for (const double u : {0.5 * l, nearest_apex(k.a), l - nearest_apex(k.b)})
+        if (const Eigen::Vector3d y = at(u); keeps_angles(k, y)) return y;
+    // Without angles a face may still be mended by later splits (the spikes' faces are); a point
+    // on a vertex never is.
+    for (const int v : {k.a, k.b, k.r, k.s})
+        if (v >= 0 && P_[v] == x) return std::nullopt;
+    return x;
+}
+
+bool Converter::split(int e, std::optional<double> at) {
     const Hinge k = hinge(e);
     const double l = dist(k.a, k.b);
-    const double t = std::clamp(at ? *at : split_distance(k, l), 0.0, l);
-    const Eigen::Vector3d x = P_[k.a] + (t / l) * (P_[k.b] - P_[k.a]);
+    // Cascades converging on a vertex reach pieces of 1e-15 of their edge, where points fell on
+    // the vertex or within rounding of it: "certified" outputs had coincident vertices.
+    const std::optional<Eigen::Vector3d> point = split_point(k, l, std::clamp(at ? *at : split_distance(k, l), 0.0, l));
+    if (!point) return false;
+    const Eigen::Vector3d& x = *point;
     const int first_new_edge = mesh_.num_edges();
     std::vector<int> outer = {mesh_.edge(HalfedgeMesh::next(k.h)), mesh_.edge(HalfedgeMesh::prev(k.h))};
     if (k.s >= 0) {
@@ -247,6 +277,7 @@ void Converter::split(int e, std::optional<double> at) {
     push(e);
     for (int n = first_new_edge; n < mesh_.num_edges(); ++n) push(n);
     for (int o : outer) push(o);
+    return true;
 }
 
 }  // namespace sdmesh::conversion

@@ -530,8 +530,13 @@ private:
             const double sine = area_r * cos_s + cos_r * area_s, cosine = cos_r * cos_s - area_r * area_s;
             return cosine >= 0 ? sine >= 0 : sine > 1e-9 * 4 * l * l * side_r * side_s;
         };
-        return below_straight(cosine_numerator(br, l, ar), cosine_numerator(bs, l, as), ar, as) &&
-               below_straight(cosine_numerator(ar, l, br), cosine_numerator(as, l, bs), br, bs);
+        if (!(below_straight(cosine_numerator(br, l, ar), cosine_numerator(bs, l, as), ar, as) &&
+              below_straight(cosine_numerator(ar, l, br), cosine_numerator(as, l, bs), br, bs)))
+            return false;
+        // And the new faces have angles by their side lengths, as certify() judges faces: in a
+        // quad 1e10 times longer than wide the corners' test passed caps whose lengths add up.
+        const double rs = dist(k.r, k.s);
+        return triangle_area(rs, ar, as) > 0 && triangle_area(rs, br, bs) > 0;
     }
 
     // Whether a flip fixes the non-LD edge e: e is flat (within flat_angle_), flippable, and the
@@ -769,8 +774,18 @@ private:
     // power-of-two multiple of the shell unit in the middle third; the midpoint if none or both are.
     double shell_distance(const Hinge& k, double l) const;
 
-    // Splits e at distance `at` from the tail of its halfedge, by default where split_distance says.
-    void split(int e, std::optional<double> at = std::nullopt);
+    // Splits e at distance `at` from the tail of its halfedge, by default where split_distance
+    // says, or elsewhere as split_point says; false, changing nothing, if it says nowhere.
+    bool split(int e, std::optional<double> at = std::nullopt);
+
+    // Where to split hinge k (edge length l) for a point at distance t from k.a: there if every
+    // face made has angles (see keeps_angles), else at the middle or by the apex nearest an end
+    // if that keeps them; else there if the point is on no vertex of the hinge; else nowhere.
+    std::optional<Eigen::Vector3d> split_point(const Hinge& k, double l, double t) const;
+
+    // Whether every face that splitting hinge k at x makes has angles: positive area from its
+    // side lengths, as certify() judges faces.
+    bool keeps_angles(const Hinge& k, const Eigen::Vector3d& x) const;
 
     // Flat candidates first (cheap flips; see FlipQueue), then physical ones by queue_key.
     // Edges are pushed whenever their hinge changes, so one that is locally Delaunay then can

@@ -131,7 +131,7 @@ bool Converter::place_points_again(int e, const std::vector<int>& old_points, co
     for (const double t : positions) {
         const Hinge k = hinge(rest);
         const bool from_near = k.a == near;
-        split(rest, from_near ? t - done : dist(k.a, k.b) - (t - done));
+        if (!split(rest, from_near ? t - done : dist(k.a, k.b) - (t - done))) return false;
         ++report.splits;
         near = static_cast<int>(P_.size()) - 1;
         rest = pieces_[near - input_vertices_][from_near ? 1 : 0];
