@@ -91,13 +91,17 @@ int run_convert(Args& args) {
                      "--max-vertices sets the vertex budget"
                   << instead << ")\n";
     }
-    else if (r.status != ConvertStatus::certified)
+    else if (r.status != ConvertStatus::certified) {
+        std::string rest = options.method == ConvertMethod::flip
+                               ? "that flips cannot fix; --method split certifies"
+                               : "left; --method hybrid or --repair may help";
+        if (r.skipped_splits > 0)
+            rest = "left, " + std::to_string(r.skipped_splits) +
+                   " splits skipped where the point fell on a vertex in double precision; --method hybrid may help";
         std::cerr << "sdmesh convert: " << paths[1] << ": not certified (" << to_string(r.status) << ", "
                   << r.certificate.non_delaunay_edges << " non-Delaunay edges and "
-                  << r.certificate.boundary_obtuse_edges
-                  << (options.method == ConvertMethod::flip
-                          ? " obtuse boundary edges that flips cannot fix; --method split certifies)\n"
-                          : " obtuse boundary edges left; --method hybrid or --repair may help)\n");
+                  << r.certificate.boundary_obtuse_edges << " obtuse boundary edges " << rest << ")\n";
+    }
     return r.status == ConvertStatus::certified ? kSuccess : kNotSelfDelaunay;
 }
 

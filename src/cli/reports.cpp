@@ -135,6 +135,7 @@ JsonObject conversion_json(const ConvertOptions& options, const ConversionReport
         .add("splits", r.splits)
         .add("unflippable_edges", r.unflippable_edges)
         .add("vertices_inside_faces", r.vertices_inside_faces)
+        .add("skipped_splits", r.skipped_splits)
         .add("removed_points", r.removed_points)
         .add("local_search_saved", r.local_search_saved)
         .add("fewest_points_saved", r.fewest_points_saved)

@@ -51,7 +51,10 @@ void Converter::split_across_strips(int first, ConversionReport& report, bool lo
             position = split_distance(k, l, trials ? &alternatives_ : nullptr);
             if (trials && alternatives_.size() > 1) position = fewest_splits_after(cut.edge, alternatives_);
         }
-        if (!split(cut.edge, position)) continue;
+        if (!split(cut.edge, position)) {
+            ++report.skipped_splits;
+            continue;
+        }
         ++report.splits;
         for (int i = 0; i < outer.count; ++i)
             if (const std::optional<double> across = strip_cut(sides[i]); across)
@@ -238,7 +241,10 @@ void Converter::split_together(ConversionReport& report) {
     for (size_t i = 0; i < group.size() && mesh_.num_vertices() < vertex_budget_; ++i) {
         if (group[i].left_out) continue;
         const bool same_way = hinge(group[i].e).a == group[i].k.a;
-        report.splits += split(group[i].e, same_way ? position[i] : group[i].l - position[i]);
+        if (split(group[i].e, same_way ? position[i] : group[i].l - position[i]))
+            ++report.splits;
+        else
+            ++report.skipped_splits;
     }
 }
 
