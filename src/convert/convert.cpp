@@ -217,18 +217,48 @@ bool Converter::keeps_angles(const Hinge& k, const Eigen::Vector3d& x) const {
 
 std::optional<Eigen::Vector3d> Converter::split_point(const Hinge& k, double l, double t) const {
     auto at = [&](double u) -> Eigen::Vector3d { return P_[k.a] + (std::clamp(u, 0.0, l) / l) * (P_[k.b] - P_[k.a]); };
+    auto fits = [&](const Eigen::Vector3d& y) { return keeps_angles(k, y) && !on_a_vertex(k, y); };
     const Eigen::Vector3d x = at(t);
-    if (keeps_angles(k, x)) return x;
+    if (fits(x)) return x;
     // An apex within rounding of the edge near one end (in spikes 1e9 times longer than wide)
     // leaves angles only to points about as close to that end.
     auto nearest_apex = [&](int end) { return k.s < 0 ? dist(end, k.r) : std::min(dist(end, k.r), dist(end, k.s)); };
     for (const double u : {0.5 * l, nearest_apex(k.a), l - nearest_apex(k.b)})
-        if (const Eigen::Vector3d y = at(u); keeps_angles(k, y)) return y;
+        if (const Eigen::Vector3d y = at(u); fits(y)) return y;
     // Without angles a face may still be mended by later splits (the spikes' faces are); a point
     // on a vertex never is.
-    for (const int v : {k.a, k.b, k.r, k.s})
-        if (v >= 0 && P_[v] == x) return std::nullopt;
+    if (on_a_vertex(k, x)) return std::nullopt;
     return x;
+}
+
+bool Converter::on_a_vertex(const Hinge& k, const Eigen::Vector3d& x) const {
+    for (const int v : {k.a, k.b, k.r, k.s})
+        if (v >= 0 && P_[v] == x) return true;
+    // Within rounding of an end, x may also land on a vertex near that end: points 1e-15 from a
+    // fan's apex on different spokes did, two edges apart.
+    constexpr double kWithinRounding = 0x1p-32;  // of the unit scale of P_
+    if (std::min(distance(P_[k.a], x), distance(P_[k.b], x)) >= kWithinRounding) return false;
+    // Calls visit(h) for each halfedge h out of the tail of `start`, both ways round (a boundary
+    // stops one of them), until it returns true.
+    auto any_out = [&](int start, auto&& visit) {
+        for (int out = start;;) {
+            if (visit(out)) return true;
+            const int in = mesh_.twin(HalfedgeMesh::prev(out));
+            if (in < 0 || in == start) break;
+            out = in;
+        }
+        for (int out = start;;) {
+            const int back = mesh_.twin(out);
+            if (back < 0 || HalfedgeMesh::next(back) == start) break;
+            out = HalfedgeMesh::next(back);
+            if (visit(out)) return true;
+        }
+        return false;
+    };
+    auto near_x = [&](int out) {
+        return P_[mesh_.head(out)] == x || any_out(HalfedgeMesh::next(out), [&](int h) { return P_[mesh_.head(h)] == x; });
+    };
+    return any_out(k.h, near_x) || (mesh_.twin(k.h) >= 0 && any_out(mesh_.twin(k.h), near_x));
 }
 
 bool Converter::split(int e, std::optional<double> at) {

@@ -783,6 +783,10 @@ private:
     // if that keeps them; else there if the point is on no vertex of the hinge; else nowhere.
     std::optional<Eigen::Vector3d> split_point(const Hinge& k, double l, double t) const;
 
+    // Whether x has the coordinates of a vertex of hinge k, or of a neighbour of its edge's ends
+    // when it lies within rounding of one.
+    bool on_a_vertex(const Hinge& k, const Eigen::Vector3d& x) const;
+
     // Whether every face that splitting hinge k at x makes has angles: positive area from its
     // side lengths, as certify() judges faces.
     bool keeps_angles(const Hinge& k, const Eigen::Vector3d& x) const;
