@@ -56,7 +56,8 @@ TEST_F(Cli, ConvertReportHasTheDocumentedKeys) {
     EXPECT_EQ(r.code, 0) << r.err;
     for (const char* key : {"input_vertices", "output_vertices", "input_non_delaunay_edges",
                             "input_nonflat_non_delaunay_edges", "flips", "splits", "unflippable_edges",
-                            "removed_points", "fewest_points_saved", "added_vertices_lower_bound", "cascade_trials",
+                            "skipped_splits", "removed_points", "fewest_points_saved", "added_vertices_lower_bound",
+                            "cascade_trials",
                             "status", "seconds",
                             "hausdorff_rel", "certificate"})
         EXPECT_NE(r.out.find(std::string(1, '"').append(key).append("\": ")), std::string::npos) << key;
@@ -86,6 +87,15 @@ TEST_F(Cli, AConversionThatIsNotCertifiedSaysWhyInOneLine) {
     EXPECT_NE(r.err.find("0 non-Delaunay edges and 1 obtuse boundary edges that flips cannot fix; --method split"),
               std::string::npos)
         << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    // Cascades deeper than doubles resolve: the splits skipped are counted and named.
+    const std::string plate = std::string(SDMESH_TEST_DATA_DIR) + "/scopia_switch_plate.obj";
+    r = run_cli("convert " + plate + " " + path("plate.obj") + " --cascade-trials 8");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("splits skipped where the point fell on a vertex in double precision; --method hybrid"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.out.find("\"skipped_splits\": 0"), std::string::npos) << r.out;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 

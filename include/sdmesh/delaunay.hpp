@@ -10,7 +10,9 @@
 // Margins are angles, hence dimensionless: the test gives the same verdict at every scale. The
 // default tolerance, 1e-10 rad, lies far above the rounding error of the margin (~1e-15) and far
 // below any margin a real mesh produces; being one-sided it makes co-circular quads count as LD,
-// so a flip loop cannot cycle on them.
+// so a flip loop cannot cycle on them. A face whose area from its side lengths is 0 (collinear
+// or coincident corners in floating point) has no angles to judge: its margins read as 0 and
+// would pass, so a mesh with such a face is never certified.
 
 #include <cmath>
 #include <limits>
