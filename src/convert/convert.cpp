@@ -138,8 +138,9 @@ void Converter::drain(ConversionReport& report, long long max_splits) {
         } else if (report.splits >= max_splits) {
             break;
         } else {
-            if (input_edge_[e] < 0) ++report.vertices_inside_faces;
+            const long long splits_before = report.splits;  // more after it only if e was split
             split_across_strips(e, report, !trial_);
+            if (input_edge_[e] < 0 && report.splits > splits_before) ++report.vertices_inside_faces;
         }
         if (!trial_ && progress_due())  // a trial's counts would be taken back
             std::fprintf(stderr, "convert: %lld splits, %lld flips, %zu queued, %d vertices\n", report.splits,
