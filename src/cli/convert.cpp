@@ -97,7 +97,9 @@ int run_convert(Args& args) {
                                : "left; --method hybrid or --repair may help";
         if (r.skipped_splits > 0)
             rest = "left, " + std::to_string(r.skipped_splits) +
-                   " splits skipped where the point fell on a vertex in double precision; --method hybrid may help";
+                   " splits skipped where the point fell on a vertex in double precision; " +
+                   (options.method == ConvertMethod::hybrid ? "a larger --max-dihedral" : "--method hybrid") +
+                   " may help";
         std::cerr << "sdmesh convert: " << paths[1] << ": not certified (" << to_string(r.status) << ", "
                   << r.certificate.non_delaunay_edges << " non-Delaunay edges and "
                   << r.certificate.boundary_obtuse_edges << " obtuse boundary edges " << rest << ")\n";

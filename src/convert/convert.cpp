@@ -232,34 +232,22 @@ std::optional<Eigen::Vector3d> Converter::split_point(const Hinge& k, double l, 
     return x;
 }
 
+bool Converter::within_rounding_of_an_end(const Hinge& k, const Eigen::Vector3d& x) const {
+    constexpr double kWithinRounding = 0x1p-32;  // of the unit scale of P_
+    return std::min(distance(P_[k.a], x), distance(P_[k.b], x)) < kWithinRounding;
+}
+
 bool Converter::on_a_vertex(const Hinge& k, const Eigen::Vector3d& x) const {
     for (const int v : {k.a, k.b, k.r, k.s})
         if (v >= 0 && P_[v] == x) return true;
-    // Within rounding of an end, x may also land on a vertex near that end: points 1e-15 from a
-    // fan's apex on different spokes did, two edges apart.
-    constexpr double kWithinRounding = 0x1p-32;  // of the unit scale of P_
-    if (std::min(distance(P_[k.a], x), distance(P_[k.b], x)) >= kWithinRounding) return false;
-    // Calls visit(h) for each halfedge h out of the tail of `start`, both ways round (a boundary
-    // stops one of them), until it returns true.
-    auto any_out = [&](int start, auto&& visit) {
-        for (int out = start;;) {
-            if (visit(out)) return true;
-            const int in = mesh_.twin(HalfedgeMesh::prev(out));
-            if (in < 0 || in == start) break;
-            out = in;
-        }
-        for (int out = start;;) {
-            const int back = mesh_.twin(out);
-            if (back < 0 || HalfedgeMesh::next(back) == start) break;
-            out = HalfedgeMesh::next(back);
-            if (visit(out)) return true;
-        }
-        return false;
-    };
-    auto near_x = [&](int out) {
-        return P_[mesh_.head(out)] == x || any_out(HalfedgeMesh::next(out), [&](int h) { return P_[mesh_.head(h)] == x; });
-    };
-    return any_out(k.h, near_x) || (mesh_.twin(k.h) >= 0 && any_out(mesh_.twin(k.h), near_x));
+    // Points 1e-15 from a fan's apex on different spokes had the same coordinates, two edges
+    // apart: such points are looked up by position (a walk round the apex took minutes where
+    // its fan held thousands of them).
+    if (!within_rounding_of_an_end(k, x)) return false;
+    const auto found = points_by_position_.find(position_key(x));
+    if (found == points_by_position_.end()) return false;
+    const int y = found->second;  // may be stale: taken back by a trial, or removed again
+    return y < static_cast<int>(P_.size()) && P_[y] == x && !removed_[y - input_vertices_];
 }
 
 bool Converter::split(int e, std::optional<double> at) {
@@ -285,6 +273,7 @@ bool Converter::split(int e, std::optional<double> at) {
         moved_.push_back(moved_[split_faces[f - first_new_face]]);
         home_.push_back(home_[split_faces[f - first_new_face]]);
     }
+    if (within_rounding_of_an_end(k, x)) points_by_position_[position_key(x)] = static_cast<int>(P_.size());
     P_.push_back(x);
     vertex_input_edge_.push_back(input_edge_[e]);
     removed_.push_back(0);

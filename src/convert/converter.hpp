@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -24,6 +25,7 @@
 #include <queue>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -530,13 +532,8 @@ private:
             const double sine = area_r * cos_s + cos_r * area_s, cosine = cos_r * cos_s - area_r * area_s;
             return cosine >= 0 ? sine >= 0 : sine > 1e-9 * 4 * l * l * side_r * side_s;
         };
-        if (!(below_straight(cosine_numerator(br, l, ar), cosine_numerator(bs, l, as), ar, as) &&
-              below_straight(cosine_numerator(ar, l, br), cosine_numerator(as, l, bs), br, bs)))
-            return false;
-        // And the new faces have angles by their side lengths, as certify() judges faces: in a
-        // quad 1e10 times longer than wide the corners' test passed caps whose lengths add up.
-        const double rs = dist(k.r, k.s);
-        return triangle_area(rs, ar, as) > 0 && triangle_area(rs, br, bs) > 0;
+        return below_straight(cosine_numerator(br, l, ar), cosine_numerator(bs, l, as), ar, as) &&
+               below_straight(cosine_numerator(ar, l, br), cosine_numerator(as, l, bs), br, bs);
     }
 
     // Whether a flip fixes the non-LD edge e: e is flat (within flat_angle_), flippable, and the
@@ -783,9 +780,25 @@ private:
     // if that keeps them; else there if the point is on no vertex of the hinge; else nowhere.
     std::optional<Eigen::Vector3d> split_point(const Hinge& k, double l, double t) const;
 
-    // Whether x has the coordinates of a vertex of hinge k, or of a neighbour of its edge's ends
-    // when it lies within rounding of one.
+    // Whether x has the coordinates of a vertex of hinge k, or, within rounding of its edge's
+    // ends, of a split point placed within rounding of its own edge's ends.
     bool on_a_vertex(const Hinge& k, const Eigen::Vector3d& x) const;
+    bool within_rounding_of_an_end(const Hinge& k, const Eigen::Vector3d& x) const;
+    // The bits of a position, for points_by_position_.
+    struct PositionKey {
+        std::array<std::uint64_t, 3> bits;
+        bool operator==(const PositionKey&) const = default;
+    };
+    struct PositionHash {
+        size_t operator()(const PositionKey& p) const {
+            return std::hash<std::uint64_t>()(p.bits[0] ^ (p.bits[1] * 0x9e3779b97f4a7c15ULL) ^
+                                              (p.bits[2] * 0xc2b2ae3d27d4eb4fULL));
+        }
+    };
+    static PositionKey position_key(const Eigen::Vector3d& x) {
+        return {{std::bit_cast<std::uint64_t>(x[0]), std::bit_cast<std::uint64_t>(x[1]),
+                 std::bit_cast<std::uint64_t>(x[2])}};
+    }
 
     // Whether every face that splitting hinge k at x makes has angles: positive area from its
     // side lengths, as certify() judges faces.
@@ -850,6 +863,9 @@ private:
     std::vector<int> thin_corners_;  // by input vertex, see count_thin_corners
     std::vector<int> vertex_input_edge_;  // by split point: the input edge it lies on, -1 inside a face
     std::vector<char> removed_;  // by split point: removed again
+    // The split points placed within rounding of an end of their edge, by position (see
+    // on_a_vertex); entries of points taken back or removed are left, and checked on reading.
+    std::unordered_map<PositionKey, int, PositionHash> points_by_position_;
     long long vertex_budget_ = 0;
     // Lawson's flips end in exact arithmetic; rounding can make them cycle. Each split adds edges
     // that may want flips (placing an edge's points again undoes and redoes splits), so the
