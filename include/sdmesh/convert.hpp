@@ -113,9 +113,9 @@ struct ConversionReport {
     long long splits = 0;
     long long unflippable_edges = 0;  ///< flip method: non-LD edges left at the end
     long long vertices_inside_faces = 0;  ///< split points not on an input edge
-    /// splits not made: the point, where it would keep its faces' angles or anywhere else on
-    /// the edge, fell on a vertex of the hinge in double precision (cascades 1e-15 deep); the
-    /// edge is tried again when its hinge changes, else left for the certificate to count
+    /// splits not made: every point tried on the edge fell on a vertex in double precision
+    /// (cascades 1e-15 deep); the edge is tried again when its hinge changes, else left for the
+    /// certificate to count
     long long skipped_splits = 0;
     /// split: points removed again at the end, once later points had made them unnecessary
     /// (output vertices = input vertices + splits - removed_points)

@@ -80,7 +80,7 @@ long long Converter::splits_after(int e, double t, long long at_most) {
     begin_trial();
     ConversionReport trial;
     split_across_strips(e, trial, false, t);
-    const bool refused = trial.splits == 0;  // the point would make a face without angles
+    const bool refused = trial.splits == 0;  // skipped: every point fell on a vertex
     for (long long flips = 0; !refused && trial.splits < kTrialSplits && trial.splits < at_most && flips < kTrialFlips;) {
         const int g = pop();
         if (g < 0 || mesh_.num_vertices() >= vertex_budget_) break;
