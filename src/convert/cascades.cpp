@@ -4,7 +4,7 @@
 
 namespace sdmesh::conversion {
 
-void Converter::count_thin_corners() {
+void Converter::find_fan_apexes() {
     // Each face's corners are judged in parallel (4.8M on the skull took 0.43 s with an
     // arctangent each, on one thread), then counted by vertex in order.
     const int faces = input_.num_faces();
@@ -19,9 +19,15 @@ void Converter::count_thin_corners() {
                 corners |= static_cast<std::uint8_t>(1u << c);
         thin[f] = corners;
     }
-    thin_corners_.assign(static_cast<size_t>(input_vertices_), 0);
+    std::vector<int> thin_corners(static_cast<size_t>(input_vertices_), 0), corners(thin_corners.size(), 0);
     for (int f = 0; f < faces; ++f)
-        for (int c = 0; c < 3; ++c) thin_corners_[input_.F(f, c)] += thin[f] >> c & 1u;
+        for (int c = 0; c < 3; ++c) {
+            thin_corners[input_.F(f, c)] += thin[f] >> c & 1u;
+            ++corners[input_.F(f, c)];
+        }
+    fan_apex_.assign(static_cast<size_t>(input_vertices_), 0);
+    for (int v = 0; v < input_vertices_; ++v)
+        fan_apex_[v] = thin_corners[v] > kMaxStripCorners || (thin_corners[v] > 0 && thin_corners[v] == corners[v]);
 }
 
 void Converter::split_across_strips(int first, ConversionReport& report, bool look_ahead, double at) {
@@ -107,7 +113,7 @@ long long Converter::splits_after(int e, double t, long long at_most) {
 std::optional<double> Converter::strip_cut(const StripSide& side) const {
     const int c = side.shared, d = side.far, e = side.split_end, x = mesh_.num_vertices() - 1;
     if (is_flat(side.edge, flat_angle_) || is_delaunay(side.edge)) return std::nullopt;
-    if (c < input_vertices_ && thin_corners_[c] > kMaxStripCorners) return std::nullopt;
+    if (c < input_vertices_ && fan_apex_[c]) return std::nullopt;
     if (!corner_below(dist(e, d), dist(c, e), dist(c, d), kThinCornerTangent)) return std::nullopt;
     int beyond = mesh_.halfedge(side.edge);  // the side's face without x
     if (mesh_.opposite_vertex(beyond) == x) beyond = mesh_.twin(beyond);

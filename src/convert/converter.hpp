@@ -108,7 +108,8 @@ constexpr double kNeedleCorner = std::numbers::pi / 180;
 // A face with a corner below this is a thin face of a strip, which a split carries its cut
 // across (see split_across_strips; 5° measured best: 3° misses couplingdown's strips, 10°
 // costs boot and koala 1-2 %), unless the corner's vertex has more such input corners than
-// kMaxStripCorners: the apex of a fan, whose needles take shells.
+// kMaxStripCorners, or no other corner (a spike's tip): the apex of a fan, whose needles take
+// shells.
 constexpr double kThinCorner = 5 * std::numbers::pi / 180;
 inline const double kThinCornerTangent = std::tan(kThinCorner);  // for corner_below
 constexpr int kMaxStripCorners = 3;
@@ -261,8 +262,8 @@ private:
     // margin broken there stays broken on the whole range beyond.
     std::uint16_t side_requirements(int e) const;
 
-    // thin_corners_: by input vertex, its input face corners below kThinCorner.
-    void count_thin_corners();
+    // fan_apex_: by input vertex, whether it is the apex of a fan of thin faces (see kThinCorner).
+    void find_fan_apexes();
 
     // Splits e where split_distance says, and carries the cut on across the strips of thin faces
     // it enters, as a loop cut: a cylinder tessellated as a ring of long faces between two rims
@@ -860,7 +861,7 @@ private:
     // By input edge: a fold not locally Delaunay in the input. Whatever the split points
     // elsewhere, its apexes see it under angles at least the input's, so it keeps a point.
     std::vector<char> needs_point_;
-    std::vector<int> thin_corners_;  // by input vertex, see count_thin_corners
+    std::vector<char> fan_apex_;  // by input vertex, see find_fan_apexes
     std::vector<int> vertex_input_edge_;  // by split point: the input edge it lies on, -1 inside a face
     std::vector<char> removed_;  // by split point: removed again
     // The split points placed within rounding of an end of their edge, by position (see

@@ -20,7 +20,7 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     const int needle_apex = on_input_edge >= 0 ? needle_end(on_input_edge) : -1;
     if (options_.split_rule == SplitRule::shell)
         return needle_apex >= 0 ? shell_distance_around(needle_apex, k, l) : shell_distance(k, l);
-    if (needle_apex >= 0 && thin_corners_[needle_apex] > kMaxStripCorners)
+    if (needle_apex >= 0 && fan_apex_[needle_apex])
         return shell_distance_around(needle_apex, k, l);
     // Short pieces that end at a fan's apex follow the shells, unless an interval point keeps
     // every physical outer side locally Delaunay: input edges meeting there at small angles
@@ -51,7 +51,7 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
         if (near_end.keeps_physical && near_end.weight > best.weight)
             return 0.5 * (near_end.range.lo + near_end.range.hi);
     }
-    if (near_input_vertex && !best.keeps_physical && thin_corners_[k.a < input_vertices_ ? k.a : k.b] > kMaxStripCorners)
+    if (near_input_vertex && !best.keeps_physical && fan_apex_[k.a < input_vertices_ ? k.a : k.b])
         return shell_distance(k, l);
     if (best.weight < 0) return 0.5 * l;
     if (const std::optional<double> foot = foot_across_plane(k, l, sides, on_input_edge)) return *foot;
