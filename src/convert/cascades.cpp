@@ -4,7 +4,7 @@
 
 namespace sdmesh::conversion {
 
-void Converter::find_fan_apexes() {
+void Converter::classify_input_vertices() {
     // Each face's corners are judged in parallel (4.8M on the skull took 0.43 s with an
     // arctangent each, on one thread), then counted by vertex in order.
     const int faces = input_.num_faces();
@@ -19,15 +19,31 @@ void Converter::find_fan_apexes() {
                 corners |= static_cast<std::uint8_t>(1u << c);
         thin[f] = corners;
     }
-    std::vector<int> thin_corners(static_cast<size_t>(input_vertices_), 0), corners(thin_corners.size(), 0);
+    const size_t vertices = static_cast<size_t>(input_vertices_);
+    std::vector<int> thin_corners(vertices, 0);
     for (int f = 0; f < faces; ++f)
-        for (int c = 0; c < 3; ++c) {
-            thin_corners[input_.F(f, c)] += thin[f] >> c & 1u;
-            ++corners[input_.F(f, c)];
+        for (int c = 0; c < 3; ++c) thin_corners[input_.F(f, c)] += thin[f] >> c & 1u;
+    // The cone angles of the vertices with thin corners (few: no arctangent elsewhere).
+    std::vector<double> cone(vertices, 0);
+    for (int f = 0; f < faces; ++f) {
+        const int u = input_.F(f, 0), v = input_.F(f, 1), w = input_.F(f, 2);
+        if (thin_corners[u] + thin_corners[v] + thin_corners[w] == 0) continue;
+        const double opposite[3] = {dist(v, w), dist(w, u), dist(u, v)};
+        for (int c = 0; c < 3; ++c)
+            if (thin_corners[input_.F(f, c)] > 0)
+                cone[input_.F(f, c)] += corner_angle(opposite[c], opposite[(c + 1) % 3], opposite[(c + 2) % 3]);
+    }
+    std::vector<char> on_boundary(vertices, 0);
+    shortest_edge_.assign(vertices, std::numeric_limits<double>::infinity());
+    for (int e = 0; e < input_edges_.num_edges(); ++e)
+        for (const int end : {input_edges_.E(e, 0), input_edges_.E(e, 1)}) {
+            shortest_edge_[end] = std::min(shortest_edge_[end], input_length_[e]);
+            on_boundary[end] |= static_cast<char>(input_edges_.edge_halfedges(e, 1) < 0);
         }
-    fan_apex_.assign(static_cast<size_t>(input_vertices_), 0);
-    for (int v = 0; v < input_vertices_; ++v)
-        fan_apex_[v] = thin_corners[v] > kMaxStripCorners || (thin_corners[v] > 0 && thin_corners[v] == corners[v]);
+    fan_apex_.assign(vertices, 0);
+    for (size_t v = 0; v < vertices; ++v)
+        fan_apex_[v] =
+            thin_corners[v] > kMaxStripCorners || (thin_corners[v] > 0 && !on_boundary[v] && cone[v] < kSpikeCone);
 }
 
 void Converter::split_across_strips(int first, ConversionReport& report, bool look_ahead, double at) {

@@ -36,7 +36,7 @@ void Converter::run(ConversionReport& report) {
     if (options_.method == ConvertMethod::split && options_.lower_bound)
         report.added_vertices_lower_bound = added_vertices_lower_bound();
     vertex_budget_ = options_.max_vertices > 0 ? options_.max_vertices : 10LL * input_vertices_ + 100000;
-    if (options_.method != ConvertMethod::flip) find_fan_apexes();
+    if (options_.method != ConvertMethod::flip) classify_input_vertices();
     if (options_.method != ConvertMethod::flip && options_.split_rule == SplitRule::interval) split_together(report);
     drain(report);
     if (options_.method == ConvertMethod::split && report.status == ConvertStatus::certified &&

@@ -108,11 +108,15 @@ constexpr double kNeedleCorner = std::numbers::pi / 180;
 // A face with a corner below this is a thin face of a strip, which a split carries its cut
 // across (see split_across_strips; 5° measured best: 3° misses couplingdown's strips, 10°
 // costs boot and koala 1-2 %), unless the corner's vertex has more such input corners than
-// kMaxStripCorners, or no other corner (a spike's tip): the apex of a fan, whose needles take
-// shells.
+// kMaxStripCorners, or is a spike's tip (an interior vertex whose corners sum to less than
+// kSpikeCone): the apex of a fan, whose needles take shells.
 constexpr double kThinCorner = 5 * std::numbers::pi / 180;
 inline const double kThinCornerTangent = std::tan(kThinCorner);  // for corner_below
 constexpr int kMaxStripCorners = 3;
+// Split points at equal fractions of the needles round a spike's tip (of unequal lengths) made
+// rings out of step by the same angle at every scale, down to 1e-15 of the needles: Scopia's
+// bush (tips of 5°) and tulips (petals' tips of 56-79°, two corners thin). Shells end them.
+constexpr double kSpikeCone = std::numbers::pi / 2;
 
 // Cotangent of the angle under which y sees p-q (+inf where y is on their line): the apex tests
 // of point removal and placement, which compare sums of these with 0.
@@ -262,8 +266,9 @@ private:
     // margin broken there stays broken on the whole range beyond.
     std::uint16_t side_requirements(int e) const;
 
-    // fan_apex_: by input vertex, whether it is the apex of a fan of thin faces (see kThinCorner).
-    void find_fan_apexes();
+    // By input vertex: fan_apex_, whether it is the apex of a fan of thin faces or a spike's tip
+    // (see kThinCorner), and shortest_edge_, its shortest input edge.
+    void classify_input_vertices();
 
     // Splits e where split_distance says, and carries the cut on across the strips of thin faces
     // it enters, as a loop cut: a cylinder tessellated as a ring of long faces between two rims
@@ -861,7 +866,8 @@ private:
     // By input edge: a fold not locally Delaunay in the input. Whatever the split points
     // elsewhere, its apexes see it under angles at least the input's, so it keeps a point.
     std::vector<char> needs_point_;
-    std::vector<char> fan_apex_;  // by input vertex, see find_fan_apexes
+    std::vector<char> fan_apex_;  // by input vertex, see classify_input_vertices
+    std::vector<double> shortest_edge_;  // by input vertex, see classify_input_vertices
     std::vector<int> vertex_input_edge_;  // by split point: the input edge it lies on, -1 inside a face
     std::vector<char> removed_;  // by split point: removed again
     // The split points placed within rounding of an end of their edge, by position (see

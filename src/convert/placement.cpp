@@ -17,7 +17,18 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     // the feet across planes keep the strip's rings in step, where shells took up to 12,600
     // vertices around a noisy zigzag drum (ConvertMethods.ANoisyZigzagDrumTakesRingsOfPoints),
     // and fewer points on the corpus (cheese 10.74 -> 10.52, skull 1.532 -> 1.526).
-    const int needle_apex = on_input_edge >= 0 ? needle_end(on_input_edge) : -1;
+    const int input_end = (k.a < input_vertices_) == (k.b < input_vertices_) ? -1 : k.a < input_vertices_ ? k.a : k.b;
+    const bool converging =
+        input_end >= 0 && on_input_edge >= 0 && l < kConvergingPieceFraction * input_length_[on_input_edge];
+    // A needle's points converging on its other end (far shorter than any input edge there)
+    // take the shells around that end: the apex's left them out of step with the rings there
+    // (the petals' tips of Scopia's tulips and its switch plate's rim: cascades to 1e-15 of
+    // their needles). Far from the apex but not from that end, they keep the apex's shells,
+    // which keep the fan's rings in step (a spike 2e8 long: 1,332 vertices, 3,014 with the
+    // shells around every end).
+    int needle_apex = on_input_edge >= 0 ? needle_end(on_input_edge) : -1;
+    if (needle_apex >= 0 && converging && l < kConvergingPieceFraction * shortest_edge_[input_end])
+        needle_apex = input_end;
     if (options_.split_rule == SplitRule::shell)
         return needle_apex >= 0 ? shell_distance_around(needle_apex, k, l) : shell_distance(k, l);
     if (needle_apex >= 0 && fan_apex_[needle_apex])
@@ -29,13 +40,11 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     // thresholds gain nothing more), and so do short ones at other input vertices, as at a
     // strip's corners (shells at every input vertex: cheese 10.36 -> 10.52).
     const bool near_input_vertex =
-        (k.a < input_vertices_) != (k.b < input_vertices_) &&
-        (on_input_edge < 0 || l < kShellPieceFraction * input_length_[on_input_edge]);
+        input_end >= 0 && (on_input_edge < 0 || l < kShellPieceFraction * input_length_[on_input_edge]);
     // Interval points can march towards an input vertex for ever, each out of step with the
     // last on the next edge (a pleated fan of 64 slightly noisy spokes, 5.6° apart: 55,336
     // vertices, the points 1e-15 from the apex); shells there close the rings.
-    if (near_input_vertex && on_input_edge >= 0 && l < kConvergingPieceFraction * input_length_[on_input_edge])
-        return shell_distance(k, l);
+    if (converging) return shell_distance(k, l);
     // Hard constraint: I0, where both halves are locally Delaunay.
     const Interval halves = delaunay_halves_interval(k, l);
     auto away_from_ends = [&](double clearance) { return Converter::away_from_ends(halves, l, clearance); };
@@ -51,7 +60,7 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
         if (near_end.keeps_physical && near_end.weight > best.weight)
             return 0.5 * (near_end.range.lo + near_end.range.hi);
     }
-    if (near_input_vertex && !best.keeps_physical && fan_apex_[k.a < input_vertices_ ? k.a : k.b])
+    if (near_input_vertex && !best.keeps_physical && fan_apex_[input_end])
         return shell_distance(k, l);
     if (best.weight < 0) return 0.5 * l;
     if (const std::optional<double> foot = foot_across_plane(k, l, sides, on_input_edge)) return *foot;
