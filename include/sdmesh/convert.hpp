@@ -71,7 +71,7 @@ struct ConvertOptions {
     double tolerance = kDelaunayTolerance;  ///< the locally-Delaunay tolerance, radians, [0, π/2)
     /// Stop with status budget_exhausted when this many vertices have been made: the input's and
     /// every split point, also those removed again later (their ids are not reused), so the
-    /// output can hold fewer; 0 = 10·|V| + 100000.
+    /// output can hold fewer; 0 = 10·|V| + 1000000.
     long long max_vertices = 0;
     /// Stop with status budget_exhausted after this many flips; 0 = 100·|E| + 1000000, |E| the
     /// edges of the mesh as it is then (splits add edges). Lawson's flips terminate in exact
