@@ -27,7 +27,7 @@ double Converter::split_distance(const Hinge& k, double l, std::vector<double>* 
     // which keep the fan's rings in step (a spike 2e8 long: 1,332 vertices, 3,014 with the
     // shells around every end).
     int needle_apex = on_input_edge >= 0 ? needle_end(on_input_edge) : -1;
-    if (needle_apex >= 0 && converging && l < kConvergingPieceFraction * shortest_edge_[input_end])
+    if (needle_apex >= 0 && input_end >= 0 && l < kConvergingPieceFraction * shortest_edge_[input_end])
         needle_apex = input_end;
     if (options_.split_rule == SplitRule::shell)
         return needle_apex >= 0 ? shell_distance_around(needle_apex, k, l) : shell_distance(k, l);
