@@ -56,6 +56,22 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         });
         return smallest;
     };
+    // Cotangent of the widest angle under which x's neighbours from its piece `into` round to
+    // `last` see p-q (none where no face of x is on that side: a boundary line).
+    auto fan_cotangent = [&](int into, int x, int last, int p, int q) -> std::optional<double> {
+        const int h = side_into(into, x);
+        if (h < 0) return std::nullopt;
+        double smallest = std::numeric_limits<double>::infinity();
+        for (int out = HalfedgeMesh::next(h); mesh_.head(out) != last; out = HalfedgeMesh::next(mesh_.twin(out)))
+            smallest = std::min(smallest, cotangent(mesh_.head(out), p, q));
+        return smallest;
+    };
+    // The Delaunay margin cot α + cot β of p-q from the apex cotangents of its two sides; on a
+    // boundary line the one side's under the strict policy, none under the free one.
+    auto sides_margin = [&](std::optional<double> one, std::optional<double> other) {
+        if (one && other) return *one + *other;
+        return options_.boundary == BoundaryPolicy::strict ? one.value_or(other.value_or(0.0)) : 0.0;
+    };
     // Every split point is tried; a removal makes the points of its two planes worth trying
     // again, so that at the end no point can go alone.
     std::deque<int> to_try;
@@ -81,17 +97,14 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         if (e < 0 || input_flat_[e] || removed_[x - input_vertices_]) continue;
         const auto [f, g] = faces_of(e);
         if (is_too_big(f) || is_too_big(g)) continue;
-        const int p = other_end(pieces_[x - input_vertices_][0], x), q = other_end(pieces_[x - input_vertices_][1], x);
-        // Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary. The
-        // apexes of x's piece to p, one in each plane, settle most points at once.
-        const Hinge k = hinge(pieces_[x - input_vertices_][0]);
-        const double first_apexes = k.s >= 0 ? cotangent(k.r, p, q) + cotangent(k.s, p, q)
-                                    : options_.boundary == BoundaryPolicy::strict ? cotangent(k.r, p, q)
-                                                                                 : 0.0;
-        if (!(first_apexes >= 0)) continue;
-        const double margin = g >= 0 ? apex_cotangent(f, p, q, e) + apex_cotangent(g, p, q, e)
-                             : options_.boundary == BoundaryPolicy::strict ? apex_cotangent(f, p, q, e)
-                                                                          : 0.0;
+        const auto [to_p, to_q] = pieces_[x - input_vertices_];
+        const int p = other_end(to_p, x), q = other_end(to_q, x);
+        // Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary. x's
+        // neighbours, which lie in the two planes, settle most points without scanning them:
+        // on a side, the one that sees p-q widest is usually the apex p-q would get.
+        const double neighbours = sides_margin(fan_cotangent(to_p, x, q, p, q), fan_cotangent(to_q, x, p, p, q));
+        if (!(neighbours >= 0)) continue;
+        const double margin = sides_margin(apex_cotangent(f, p, q, e), g >= 0 ? std::optional(apex_cotangent(g, p, q, e)) : std::nullopt);
         if (!(margin >= 0)) continue;
         if (undo_split(x, report) >= 0) {
             ++report.removed_points;
