@@ -303,7 +303,10 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
         }
         return placed;
     };
-    for (int pass = 0; pass < kFewestPointsPasses; ++pass) {
+    // Two passes in a row that place nothing leave the mesh as it was: each pass after them
+    // would repeat the one before last.
+    for (int pass = 0, idle_passes = 0; pass < kFewestPointsPasses && idle_passes < 2; ++pass) {
+        ++idle_passes;
         for (size_t i = 0; i < candidates.size(); ++i) {
             if (report.status != ConvertStatus::certified) break;
             if (!trial_ && progress_due())
@@ -339,6 +342,7 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
                 on_edge[e].clear();
                 index_points(first_new);
                 report.fewest_points_saved += before.splits - before.removed_points - added;
+                idle_passes = 0;
                 continue;
             }
             rollback();
