@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -164,6 +165,22 @@ TEST_F(Cli, SelfDelaunayMeshExitsZero) {
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("self-Delaunay"), std::string::npos);
     EXPECT_EQ(run_cli("info " + path("sphere.off")).code, 0);
+}
+
+TEST_F(Cli, GeodesicReportsTheVerticesItsSourcesDoNotReach) {
+    // Two unit spheres apart: the sources reach one of them, whose farthest point is antipodal.
+    const TriangleMesh sphere = make_icosphere(3);
+    const int n = sphere.num_vertices();
+    TriangleMesh two{.V = Eigen::MatrixX3d(2 * n, 3), .F = Eigen::MatrixX3i(2 * sphere.num_faces(), 3)};
+    two.V << sphere.V, sphere.V.rowwise() + Eigen::RowVector3d(5, 0, 0);
+    two.F << sphere.F, sphere.F.array() + n;
+    write_mesh(path("two_spheres.off"), two);
+    const CliRun r = run_cli("geodesic " + path("two_spheres.off") + " --source 0 --out " + path("d.ply"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("\"unreached_vertices\": " + std::to_string(n) + ","), std::string::npos) << r.out;
+    const size_t at = r.out.find("\"max_distance\": ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    EXPECT_NEAR(std::stod(r.out.substr(at + 16)), std::numbers::pi, 0.05 * std::numbers::pi) << r.out;
 }
 
 TEST_F(Cli, BoundaryPolicyChangesTheVerdict) {

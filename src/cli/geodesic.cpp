@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -36,10 +37,16 @@ int run_geodesic(Args& args) {
     const double query_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     write_mesh(*out, input.mesh, {.vertex_fields = {{"distance", distance}}});
 
+    // Components without a source are at +inf, which JSON cannot hold: the report gives the
+    // farthest vertex the sources reach, and how many they do not.
+    const auto reached = distance.array().isFinite();
+    const double max_distance =
+        reached.any() ? reached.select(distance.array(), -std::numeric_limits<double>::infinity()).maxCoeff() : 0.0;
     report.add("sources", static_cast<long long>(sources.size()))
         .add("time", geodesics.report().time)
         .add("boundary_vertices", geodesics.report().boundary_vertices)
-        .add("max_distance", distance.maxCoeff())
+        .add("max_distance", max_distance)
+        .add("unreached_vertices", static_cast<long long>(distance.size() - reached.count()))
         .add("precompute_seconds", geodesics.report().precompute_seconds)
         .add("query_seconds", query_seconds);
     std::cout << report.str() << '\n';
