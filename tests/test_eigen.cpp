@@ -199,6 +199,38 @@ TEST(SmallProblems, TheIcosahedronIsSolvedExactly) {
     for (int i = 0; i < 6; ++i) EXPECT_NEAR(r.values[i], dense.eigenvalues()[i], 1e-9 * dense.eigenvalues()[5]);
 }
 
+// A split point 1e-7 of its edge from an end (as conversions make) gives its vertex and that end
+// cotan weight sums of about 1e7, against 3.5 elsewhere; a shift from their mean sat four orders
+// of magnitude below the spectrum, where Lanczos cannot tell the low eigenvalues apart.
+TEST(SphereSpectrum, ASliverDoesNotThrowTheShiftOff) {
+    TriangleMesh mesh = make_icosphere(3);
+    const int a = mesh.F(0, 0), b = mesh.F(0, 1), c = mesh.F(0, 2), x = mesh.num_vertices();
+    int across = -1;  // the face (b, a, d)
+    for (int f = 0; f < mesh.num_faces(); ++f)
+        for (int k = 0; k < 3; ++k)
+            if (mesh.F(f, k) == b && mesh.F(f, (k + 1) % 3) == a) across = f;
+    ASSERT_GE(across, 0);
+    const int d = mesh.F(across, 0) + mesh.F(across, 1) + mesh.F(across, 2) - a - b;
+    mesh.V.conservativeResize(x + 1, 3);
+    mesh.V.row(x) = mesh.V.row(a) + 1e-7 * (mesh.V.row(b) - mesh.V.row(a));
+    mesh.F.conservativeResize(mesh.num_faces() + 2, 3);
+    mesh.F.row(0) << a, x, c;
+    mesh.F.row(across) << b, x, d;
+    mesh.F.bottomRows(2) << x, b, c, x, a, d;
+    const Triangulation t = Triangulation::from_mesh(mesh);
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::barycentric);
+    ASSERT_GT(L.coeff(x, x), 1e6);
+    const EigenResult r = smallest_eigenpairs(L, M, {.k = 10});
+    EXPECT_EQ(r.report.status, EigenStatus::converged);
+    EXPECT_GT(r.report.sigma, -2.0);
+    // Weights of 1e7 leave L φ with rounding of about 1e-9, so residuals of 1e-7 are all
+    // doubles can tell.
+    EXPECT_LE(r.report.max_residual, 1e-6);
+    EXPECT_LE(r.report.max_orthogonality_error, 1e-10);
+    EXPECT_LE(std::abs(r.values[0]), 1e-8 * std::abs(r.report.sigma));
+    for (int i = 1; i <= 3; ++i) EXPECT_NEAR(r.values[i], 2.0, 0.05);
+}
+
 // Block Lanczos itself on the icosahedron (white-box: eigenpairs would take the dense path). Its
 // block Krylov space is invariant at dimension 11 of 12, so the last blocks lose directions to
 // rounding or nearly so; a direction shortened ~1e8× and then normalized carried its rounding

@@ -36,10 +36,11 @@ enum class EigenSolver {
 struct EigenOptions {
     /// Number of eigenpairs wanted, 1 <= k < n (n: the free vertices, see dirichlet_vertices).
     int k = 10;
-    /// Shift σ < 0 of the shift-invert transform; NaN (default) picks
-    /// σ = −trace(L) / (n · trace(M)), i.e. minus the mean cotan weight sum over the mean vertex
-    /// area. It is invariant under refinement and scales like 1/area, as the low eigenvalues do,
-    /// and sits an order of magnitude below the first non-zero one on compact surfaces.
+    /// Shift σ < 0 of the shift-invert transform; NaN (default) picks σ = −median_i(L_ii) /
+    /// trace(M), minus the median cotan weight sum over the area. It is invariant under
+    /// refinement and scales like 1/area, as the low eigenvalues do, and sits an order of
+    /// magnitude below the first non-zero one on compact surfaces; slivers, whose weight sums
+    /// can be 10⁶ times the others, do not move it as they moved the mean.
     double sigma = std::numeric_limits<double>::quiet_NaN();
     EigenSolver solver = EigenSolver::block_lanczos;
     /// Relative tolerance of the Lanczos Ritz values: residual ≤ tolerance · |θ| with
