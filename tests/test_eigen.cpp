@@ -429,6 +429,22 @@ TEST_F(Cli, ProgressGoesToStandardErrorAndChangesNothing) {
         EXPECT_EQ(read(dir_ / "loud" / file), read(dir_ / "quiet" / file)) << file;
 }
 
+// Pairs that did not converge are written, with the status in report.json and one line on stderr.
+TEST_F(Cli, SaysOnStandardErrorWhenItDidNotConverge) {
+    write_mesh(dir_ / "sphere.off", make_icosphere(3));
+    const fs::path out = dir_ / "eigs";
+    ASSERT_EQ(run("eigs " + (dir_ / "sphere.off").string() + " -k 6 --tolerance 1e-30 --out " + out.string()), 0)
+        << read(dir_ / "err.txt");
+    EXPECT_NE(read(out / "report.json").find("\"status\": \"not_converged\""), std::string::npos);
+    const std::string err = read(dir_ / "err.txt");
+    EXPECT_NE(err.find("sphere.off: not converged (largest relative residual "), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    std::istringstream csv(read(out / "eigenvalues.csv"));
+    double first = 1;
+    csv >> first;
+    EXPECT_NEAR(first, 0.0, 1e-6);  // approximations, not garbage
+}
+
 TEST_F(Cli, SolvesOnConvertedAndIntrinsicMeshes) {
     write_mesh(dir_ / "grid.obj", make_grid(8, 8, 1.0, 1.0, 1.7));  // sheared: not self-Delaunay
     for (const char* choice : {"--convert split", "--intrinsic"}) {

@@ -82,6 +82,13 @@ int run_eigs(Args& args) {
     write_text_file(dir / "eigenvectors.bin", eigenvectors_bin(result.vectors));
     report.merge(eigen_json(options.k, result));
     write_report(dir, report);
+    // The pairs are written either way (report.json has the status); a script that reads only
+    // the exit code still succeeds, and a person sees the line.
+    if (result.report.status != EigenStatus::converged)
+        std::fprintf(stderr,
+                     "sdmesh eigs: %s: not converged (largest relative residual %.3g); the pairs written are "
+                     "approximations: --solver spectra, or a --sigma just below the wanted eigenvalues, can help\n",
+                     path.c_str(), result.report.max_residual);
     return kSuccess;
 }
 
