@@ -333,6 +333,9 @@ py::object eigs_py(py::handle first, py::handle second, int k, const std::option
         py::gil_scoped_release unlocked;
         result = smallest_eigenpairs(ops.L, ops.M, options);
     }
+    if (result.report.status != EigenStatus::converged)
+        py::module_::import("warnings").attr("warn")("eigs: " + cli::not_converged_message(result.report),
+                                                     py::handle(PyExc_RuntimeWarning));
     const py::dict report = to_dict(cli::eigen_json(k, result));
     py::array values = to_numpy(std::move(result.values)), vectors = to_numpy(std::move(result.vectors));
     if (return_report) return py::make_tuple(values, vectors, report);
@@ -535,7 +538,7 @@ The k smallest eigenpairs of L φ = λ M φ, from a mesh (cotan L and the `mass`
 evals: (k,) ascending; evecs: (n, k), M-orthonormal. sigma: shift < 0 (None: automatic);
 dirichlet: vertices where φ = 0. solver: "block" (block Lanczos) or "spectra" (Spectra's
 Lanczos). progress: lines on stderr (the factorization, then about every second). report: the solver keys of `sdmesh eigs`'s report.json; when report["status"] is
-"not_converged", spectra returns fewer than k pairs, block its best approximations.
+"not_converged" (a RuntimeWarning says so), spectra returns fewer than k pairs, block its best approximations.
 Raises InvalidArgumentError (k >= n, ...), NumericalError (M not positive definite).)");
 
     m.def("poisson", &poisson_py, arg("V_or_L"), arg("F_or_M"), arg("f"), py::kw_only(),

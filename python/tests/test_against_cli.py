@@ -222,6 +222,13 @@ def test_eigs_progress_goes_to_stderr_as_in_the_cli(capfd, converted_bunny):
     np.testing.assert_array_equal(loud[1], quiet[1])
 
 
+def test_eigs_warns_when_it_did_not_converge(converted_bunny):
+    V, F = sdmesh.read_mesh(converted_bunny)
+    with pytest.warns(RuntimeWarning, match=re.escape("eigs: not converged (largest relative residual ")):
+        values, _, report = sdmesh.eigs(V, F, 6, tolerance=1e-30, return_report=True)
+    assert report["status"] == "not_converged" and abs(values[0]) <= 1e-6
+
+
 def test_geodesic_equals_the_cli(cli, tmp_path, converted_bunny):
     done = cli("geodesic", converted_bunny, "--source", "0,17", "--out", tmp_path / "d.ply", "--mass", "mixed")
     expected = read_binary_ply_fields(tmp_path / "d.ply", ["distance"])["distance"]

@@ -85,10 +85,7 @@ int run_eigs(Args& args) {
     // The pairs are written either way (report.json has the status); a script that reads only
     // the exit code still succeeds, and a person sees the line.
     if (result.report.status != EigenStatus::converged)
-        std::fprintf(stderr,
-                     "sdmesh eigs: %s: not converged (largest relative residual %.3g); the pairs written are "
-                     "approximations: --solver spectra, or a --sigma just below the wanted eigenvalues, can help\n",
-                     path.c_str(), result.report.max_residual);
+        std::fprintf(stderr, "sdmesh eigs: %s: %s\n", path.c_str(), not_converged_message(result.report).c_str());
     return kSuccess;
 }
 

@@ -1,5 +1,6 @@
 #include "cli/reports.hpp"
 
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -199,6 +200,13 @@ JsonObject intrinsic_json(const IntrinsicOptions& options, const IntrinsicReport
         .add("intrinsic_seconds", r.seconds)
         .add("flip_seconds", r.flip_seconds);
     return json;
+}
+
+std::string not_converged_message(const EigenReport& report) {
+    char residual[32];
+    std::snprintf(residual, sizeof residual, "%.3g", report.max_residual);
+    return std::string("not converged (largest relative residual ") + residual +
+           "); the pairs are approximations: solver spectra, or a sigma just below the wanted eigenvalues, can help";
 }
 
 JsonObject eigen_json(int k, const EigenResult& result) {

@@ -74,4 +74,7 @@ JsonObject intrinsic_json(const IntrinsicOptions& options, const IntrinsicReport
 /// The solver part of `sdmesh eigs`'s report.json (k, converged_pairs, status, ..., seconds).
 JsonObject eigen_json(int k, const EigenResult& result);
 
+/// What `sdmesh eigs` prints, and Python warns, when the pairs did not converge.
+std::string not_converged_message(const EigenReport& report);
+
 }  // namespace sdmesh::cli
