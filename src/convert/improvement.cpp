@@ -100,8 +100,8 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         const auto [to_p, to_q] = pieces_[x - input_vertices_];
         const int p = other_end(to_p, x), q = other_end(to_q, x);
         // Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary. x's
-        // neighbours, which lie in the two planes, settle most points without scanning them:
-        // on a side, the one that sees p-q widest is usually the apex p-q would get.
+        // neighbours settle most points before the planes are scanned: on a side, the one that
+        // sees p-q widest is usually the apex p-q would get, and where they break p-q, x stays.
         const double neighbours = sides_margin(fan_cotangent(to_p, x, q, p, q), fan_cotangent(to_q, x, p, p, q));
         if (!(neighbours >= 0)) continue;
         const double margin = sides_margin(apex_cotangent(f, p, q, e), g >= 0 ? std::optional(apex_cotangent(g, p, q, e)) : std::nullopt);
