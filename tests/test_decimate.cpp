@@ -87,7 +87,7 @@ void expect_same_topology_and_self_delaunay(const TriangleMesh& input, const Tri
     EXPECT_EQ(after.boundary_loops, before.boundary_loops);
     const DelaunayCertificate cert = certify(output, {.boundary = boundary});
     EXPECT_TRUE(cert.self_delaunay) << cert.non_delaunay_edges << " non-LD edges, " << cert.boundary_obtuse_edges
-                                    << " obtuse boundary edges";
+                                    << " obtuse boundary edges, " << cert.collinear_faces << " faces without area";
     if (boundary == BoundaryPolicy::strict) {
         EXPECT_EQ(cert.negative_cotan_weights, 0);
     }
@@ -301,26 +301,32 @@ TEST(DecimatePlanes, SubdividedFacesLoseTheirVerticesExactly) {
 // A mangled icosahedron with one vertex 2e8 away (a fuzzer's find): the split conversion fills
 // the spike with planar quads of aspect up to 1.6e7, nearly co-circular, whose LD verdicts are
 // rounding either way (margins of ±1e-9). A flip inside a plane used to be taken whenever the old
-// diagonal failed the test, and the new diagonal then failed the certificate.
+// diagonal failed the test, and the new diagonal then failed the certificate. With the vertex also
+// 71 to the side (the fuzzer again), collapses made two flat caps on one edge of the spike, 2e-9
+// of its length squared by the cross product but 0 by the side lengths, which the certificate
+// uses: a pair of zero angles and one of π, whose LD test passes.
 TEST(DecimatePlanes, FlipsInNeedleQuadsKeepTheCertificate) {
-    TriangleMesh mesh = make_icosphere(0);
-    mesh.V << -0.52573110999999995, 211913359, 0.85062080835204001,  //
-        0.52573111211913359, 0.85065080835203999, 0,                 //
-        -0.52573111211193357, -0.85065080835203999, 0,               //
-        0.52573111211913359, -0.85065503080284, 0,                   //
-        0, -0.52573111211913359, 0.850301617470408,                  //
-        0, 0.52573111211913359, 0.85865000835203997,                 //
-        0, -5.2571555605956677, -0.85065080835213747,                //
-        0, 0.52573111211913359, 0.85065080835203999,                 //
-        0, -5.2573111211913357, -0.85065080805203996,                //
-        0, 0.52573111211913359, -0.85065080835203999,                //
-        0.85065039990000002, 0, -0.5257351121191336,                 //
-        -0.85065080835203999, 0, 0.52573111211913937;
-    const ConversionResult converted = convert(mesh, {.method = ConvertMethod::split});
-    ASSERT_EQ(converted.report.status, ConvertStatus::certified);
-    const DecimateResult result = decimate(converted.mesh, {.target_ratio = 0.3});
-    EXPECT_EQ(result.report.status, DecimateStatus::reached_target);
-    expect_same_topology_and_self_delaunay(converted.mesh, result.mesh, BoundaryPolicy::strict, "needle quads");
+    for (const double x0 : {-0.52573110999999995, 70.52573111}) {
+        TriangleMesh mesh = make_icosphere(0);
+        mesh.V << x0, 211913359, 0.85062080835204001,                   //
+            0.52573111211913359, 0.85065080835203999, 0,                 //
+            -0.52573111211193357, -0.85065080835203999, 0,               //
+            0.52573111211913359, -0.85065503080284, 0,                   //
+            0, -0.52573111211913359, 0.850301617470408,                  //
+            0, 0.52573111211913359, 0.85865000835203997,                 //
+            0, -5.2571555605956677, -0.85065080835213747,                //
+            0, 0.52573111211913359, 0.85065080835203999,                 //
+            0, -5.2573111211913357, -0.85065080805203996,                //
+            0, 0.52573111211913359, -0.85065080835203999,                //
+            0.85065039990000002, 0, -0.5257351121191336,                 //
+            -0.85065080835203999, 0, 0.52573111211913937;
+        const ConversionResult converted = convert(mesh, {.method = ConvertMethod::split});
+        ASSERT_EQ(converted.report.status, ConvertStatus::certified);
+        const DecimateResult result = decimate(converted.mesh, {.target_ratio = 0.3});
+        EXPECT_EQ(result.report.status, DecimateStatus::reached_target);
+        expect_same_topology_and_self_delaunay(converted.mesh, result.mesh, BoundaryPolicy::strict,
+                                               "needle quads, x0 = " + std::to_string(x0));
+    }
 }
 
 class DecimateCorpus : public ::testing::TestWithParam<std::string> {};

@@ -412,14 +412,19 @@ Collapser::Verdict Collapser::check(int p, int q, const Vec3& x) {
     for (int i = 0; i < n; ++i) t[i].xb = star_[i].after >= 0 ? t[star_[i].after].xa : distance(x, mesh_.P[star_[i].b]);
     for (int i = 0; i < n; ++i) {
         const StarFace& s = star_[i];
+        StarTriangle& ti = t[i];
         const Vec3 after = (mesh_.P[s.a] - x).cross(mesh_.P[s.b] - x);
-        const double longest = std::max({t[i].xa, t[i].xb, s.ab});
+        const double longest = std::max({ti.xa, ti.xb, s.ab});
         if (!(after.dot(s.normal) > 0) || 0.5 * after.norm() <= 1e-12 * longest * longest) return Verdict::normal_flip;
+        // The certificate takes a face's area from its side lengths, which for a flat cap is
+        // rounding: 0 up to about 1e-8 of the longest side squared, where the cross product
+        // still sees area. Two such caps on one edge would pass its LD test.
+        ti.area4 = 4.0 * triangle_area(ti.xa, ti.xb, s.ab);
+        if (!(ti.area4 > 0)) return Verdict::normal_flip;
     }
     for (int i = 0; i < n; ++i) {
         StarTriangle& ti = t[i];
         const double ab = star_[i].ab;
-        ti.area4 = 4.0 * triangle_area(ti.xa, ti.xb, ab);
         ti.cosine_x = cosine_numerator(ab, ti.xa, ti.xb);
         ti.cosine_a = cosine_numerator(ti.xb, ti.xa, ab);
         ti.cosine_b = cosine_numerator(ti.xa, ti.xb, ab);

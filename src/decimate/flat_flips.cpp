@@ -55,8 +55,10 @@ bool FlatFlips::locally_delaunay(int a, int b, int c, int d, double tan_toleranc
     const double ab = distance(position(a), position(b));
     const double ac = distance(position(a), position(c)), bc = distance(position(b), position(c));
     const double ad = distance(position(a), position(d)), bd = distance(position(b), position(d));
-    return is_locally_delaunay_scaled(4.0 * triangle_area(ab, ac, bc), cosine_numerator(ab, ac, bc),
-                                      4.0 * triangle_area(ab, ad, bd), cosine_numerator(ab, ad, bd), tan_tolerance);
+    const double area4_c = 4.0 * triangle_area(ab, ac, bc), area4_d = 4.0 * triangle_area(ab, ad, bd);
+    return area4_c > 0 && area4_d > 0 &&
+           is_locally_delaunay_scaled(area4_c, cosine_numerator(ab, ac, bc), area4_d, cosine_numerator(ab, ad, bd),
+                                      tan_tolerance);
 }
 
 bool FlatFlips::has_edge(int a, int b) const {

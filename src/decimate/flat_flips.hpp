@@ -51,7 +51,8 @@ private:
     [[nodiscard]] Vec3 position(int v) const { return v == p_ ? x_ : mesh_->P[v]; }
     int face_with_side(int from, int to);  // a patch face with side from -> to, taking in a face across; -1 if none
     [[nodiscard]] bool has_edge(int a, int b) const;
-    // Whether edge a-b of the faces (a, b, c) and (b, a, d) is LD, by the certificate's formulas.
+    // Whether edge a-b of the faces (a, b, c) and (b, a, d) is LD and both faces have an area,
+    // by the certificate's formulas.
     [[nodiscard]] bool locally_delaunay(int a, int b, int c, int d, double tan_tolerance) const;
 
     const MeshState* mesh_ = nullptr;
