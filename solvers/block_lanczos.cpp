@@ -157,11 +157,11 @@ Matrix gram(const Matrix& W, const MassProduct& M) {
 // scaling). One pass loses orthogonality in proportion to the square of W's condition number, so
 // a second pass follows when that square exceeds kRepeatCondition. Directions of norm below
 // kLostDirection · `scale` are dropped (their rows of R are zero) and replaced by random ones
-// orthogonalized against V; those below kReprojectBelow · `scale` are projected against V once
+// (deflated) orthogonalized against V; those below kReprojectBelow · `scale` are projected against V once
 // more first. Q (n x b, not overlapping V) receives the result, written in place (the basis's
 // next block: a copy of each block cost 12 ms on nefertiti); W is scratch. Returns R.
 Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const MassProduct& M, Matrix& W, const Matrix& G, double scale,
-                      std::uint64_t seed, Eigen::Ref<Matrix> Q) {
+                      std::uint64_t seed, const BlockLanczosOptions& options, Eigen::Ref<Matrix> Q) {
     const Index b = W.cols();
     Eigen::SelfAdjointEigenSolver<Matrix> first(G);
     const double lost_below = kLostDirection * kLostDirection * scale * scale;
@@ -186,6 +186,7 @@ Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const MassProduct& M, M
     if (lost > 0) {
         // The eigenvalues are ascending, so the lost directions are the first columns.
         Matrix fresh = random_columns(W.rows(), lost, seed);
+        if (options.deflate) options.deflate(fresh);
         project_out(V, M, fresh);
         project_out(V, M, fresh);
         Q.leftCols(lost) = fresh;
@@ -232,7 +233,8 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& mass, co
     Matrix T = Matrix::Zero(capacity, capacity);
     {
         Matrix start = random_columns(n, b, 1);
-        orthonormalize(V.leftCols(0), M, start, gram(start, M), 1.0, 2, V.leftCols(b));
+        if (options.deflate) options.deflate(start);
+        orthonormalize(V.leftCols(0), M, start, gram(start, M), 1.0, 2, options, V.leftCols(b));
     }
     LargestEigenpairs ritz;  // of the last convergence test
     Index m = 0, next_test = 0, previous_test = 0;
@@ -243,6 +245,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& mass, co
     for (Index step = 0; (step + 1) * b <= capacity; ++step) {
         m = (step + 1) * b;
         Matrix W = K.solve_columns(M(V.middleCols(step * b, b)));
+        if (options.deflate) options.deflate(W);  // rounding along the modes, grown by the solve
         result.solves += static_cast<int>(b);
         result.steps = static_cast<int>(step + 1);
         // S Q_j has large components only along the last two blocks (the Lanczos recurrence);
@@ -311,7 +314,7 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& mass, co
         }
         if (last) break;
         const Matrix R =
-            orthonormalize(V.leftCols(m), M, W, G, scale, 3 + static_cast<std::uint64_t>(step), V.middleCols(m, b));
+            orthonormalize(V.leftCols(m), M, W, G, scale, 3 + static_cast<std::uint64_t>(step), options, V.middleCols(m, b));
         T.block(m, step * b, b, b) = R;
         T.block(step * b, m, b, b) = R.transpose();
     }

@@ -13,6 +13,8 @@
 // b = 4 was fastest on nefertiti (k = 50): 1.2 s against 1.3 s for b = 2 and 1.6 s for b = 8,
 // which needs more solves (272 against 208).
 
+#include <functional>
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -29,6 +31,10 @@ struct BlockLanczosOptions {
     int max_columns = 0;       ///< basis size limit (multiple of block_size after capping at n)
     double tolerance = 1e-10;  ///< Ritz residual relative to θ, as Spectra's tol
     bool progress = false;     ///< a line on stderr about every second (at convergence tests)
+    /// Known eigenvectors to leave out (constant_modes.hpp): removes from the columns given their
+    /// parts along them, M-orthogonally. Applied to the start block, to each block of solves
+    /// and to fresh random directions, so that the basis stays in their complement. Empty: none.
+    std::function<void(Eigen::Ref<Eigen::MatrixXd>)> deflate = {};
 };
 
 struct BlockLanczosResult {

@@ -10,10 +10,12 @@
 #include <string>
 #include <thread>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <Spectra/MatOp/SparseSymMatProd.h>
 #include <Spectra/SymGEigsShiftSolver.h>
+#include <Spectra/Util/SimpleRandom.h>
 #include <omp.h>
 
 #include "sdmesh/cholesky.hpp"
@@ -23,6 +25,7 @@
 #include "blas.hpp"
 #include "mass_product.hpp"
 #include "block_lanczos.hpp"
+#include "constant_modes.hpp"
 #include "free_vertices.hpp"
 #include "number_text.hpp"
 #include "prefault.hpp"
@@ -34,12 +37,13 @@ namespace {
 using Sparse = Eigen::SparseMatrix<double>;
 
 // y = (L − σM)⁻¹ x for Spectra's shift-invert mode, on a CHOLMOD factor built when Spectra sets
-// the shift. Counts the solves for the report.
+// the shift, deflated (see BlockLanczosOptions::deflate). Counts the solves for the report.
 class ShiftInvertOp {
 public:
     using Scalar = double;
 
-    ShiftInvertOp(const Sparse& L, const Sparse& M, int& solves) : L_(L), M_(M), solves_(solves) {}
+    ShiftInvertOp(const Sparse& L, const Sparse& M, const detail::ConstantModes* deflated, int& solves)
+        : L_(L), M_(M), deflated_(deflated), solves_(solves) {}
 
     [[nodiscard]] Eigen::Index rows() const { return L_.rows(); }
     [[nodiscard]] Eigen::Index cols() const { return L_.cols(); }
@@ -51,13 +55,16 @@ public:
 
     void perform_op(const double* x_in, double* y_out) const {
         const Eigen::Index n = rows();
-        Eigen::Map<Eigen::VectorXd>(y_out, n) = solver_.solve(Eigen::Map<const Eigen::VectorXd>(x_in, n));
+        Eigen::Map<Eigen::VectorXd> y(y_out, n);
+        y = solver_.solve(Eigen::Map<const Eigen::VectorXd>(x_in, n));
+        if (deflated_ != nullptr) deflated_->project_out(y);
         ++solves_;
     }
 
 private:
     const Sparse& L_;
     const Sparse& M_;
+    const detail::ConstantModes* deflated_;
     int& solves_;
     CholeskySolver solver_;
 };
@@ -132,13 +139,15 @@ struct Eigenpairs {
 // rounding and gives each pair its Rayleigh quotient. Products with L and M run over a few
 // columns at a time, so no further n x k matrix is made (their first touch is slow).
 Eigenpairs spectra_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, int basis, const EigenOptions& options,
-                              EigenReport& report) {
-    ShiftInvertOp op(L, M, report.solves);
+                              const detail::ConstantModes* deflated, EigenReport& report) {
+    ShiftInvertOp op(L, M, deflated, report.solves);
     Spectra::SparseSymMatProd<double> mass_op(M);
     Spectra::SymGEigsShiftSolver<ShiftInvertOp, Spectra::SparseSymMatProd<double>, Spectra::GEigsMode::ShiftInvert>
         lanczos(op, mass_op, nev, basis, report.sigma);
     try {
-        lanczos.init();
+        Eigen::VectorXd start = Spectra::SimpleRandom<double>(0).random_vec(L.rows());  // as Spectra's init()
+        if (deflated != nullptr) deflated->project_out(start);
+        lanczos.init(start.data());
         lanczos.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance,
                         Spectra::SortRule::SmallestAlge);
     } catch (const Error&) {
@@ -165,15 +174,17 @@ Eigenpairs spectra_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, 
 // to ~1e-12 already; λ = σ + 1/θ is as accurate as a Rayleigh quotient (both err by the square
 // of the residual).
 Eigenpairs block_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, int basis, const EigenOptions& options,
-                            EigenReport& report) {
+                            const detail::ConstantModes* deflated, EigenReport& report) {
     const auto start = std::chrono::steady_clock::now();
     if (options.progress)
         std::fprintf(stderr, "eigs: factorizing L - sigma M (n = %ld)\n", static_cast<long>(L.rows()));
-    const detail::BlockLanczosOptions lanczos_options{.wanted = k,
-                                                      .margin = nev - k,
-                                                      .max_columns = basis,
-                                                      .tolerance = options.tolerance,
-                                                      .progress = options.progress};
+    detail::BlockLanczosOptions lanczos_options{.wanted = k,
+                                                .margin = nev - k,
+                                                .max_columns = basis,
+                                                .tolerance = options.tolerance,
+                                                .progress = options.progress};
+    if (deflated != nullptr)
+        lanczos_options.deflate = [deflated](Eigen::Ref<Eigen::MatrixXd> X) { deflated->project_out(X); };
     const detail::BasisShape shape = detail::basis_shape(L.rows(), lanczos_options);
     Eigen::MatrixXd storage(L.rows(), shape.capacity);
     const Sparse A = L - report.sigma * M;
@@ -203,6 +214,43 @@ Eigenpairs block_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, in
     return {report.sigma + lanczos.ritz_values.cwiseInverse().array(), std::move(lanczos.ritz_vectors)};
 }
 
+// The sizes of a Lanczos run for k pairs among n unknowns: the pairs it tests (nev, k and a
+// margin) and its basis (options.basis_size or a default, at most n). Lanczos from one start
+// vector can miss members of a cluster of (nearly) equal eigenvalues when only the wanted pairs
+// are tested for convergence; on icospheres it did. So it is asked for a margin of extra pairs,
+// which must converge too, and the k smallest are kept. Blocks find up to block-size equal
+// eigenvalues at once and need a smaller margin.
+struct LanczosSize {
+    int nev = 0, basis = 0;
+};
+
+LanczosSize lanczos_size(int k, int n, const EigenOptions& options) {
+    const bool block = options.solver == EigenSolver::block_lanczos;
+    const int with_margin = std::min(n - 1, k + std::max(kMinEigenMargin, block ? k / 5 : k / 2));
+    const int default_basis = block ? std::max(6 * with_margin, 160) : std::max(2 * with_margin + 1, 20);
+    const int basis = std::min(n, options.basis_size == 0 ? default_basis : options.basis_size);
+    return {std::min(with_margin, basis - 1), basis};
+}
+
+// The k smallest of the pairs found in the complement of the modes and the modes' own, whose
+// eigenvalue is 0 (their Rayleigh quotients are rounding), ascending; modes in their order, and
+// before pairs of the same value.
+Eigenpairs with_constant_modes(const Eigenpairs& found, const detail::ConstantModes& modes, int k) {
+    const int from_modes = std::min(k, modes.count());
+    std::vector<std::pair<double, int>> order;  // value, then mode j as -1 - j or found pair i as i
+    for (int j = 0; j < from_modes; ++j) order.emplace_back(0.0, -1 - j);
+    for (int i = 0; i < found.values.size(); ++i) order.emplace_back(found.values[i], i);
+    std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const int kept = std::min(k, static_cast<int>(order.size()));
+    Eigenpairs pairs{Eigen::VectorXd(kept), Eigen::MatrixXd(static_cast<Eigen::Index>(modes.mode_of.size()), kept)};
+    for (int c = 0; c < kept; ++c) {
+        const auto [value, source] = order[static_cast<size_t>(c)];
+        pairs.values[c] = value;
+        pairs.vectors.col(c) = source < 0 ? modes.vector(-1 - source) : Eigen::VectorXd(found.vectors.col(source));
+    }
+    return pairs;
+}
+
 // Below this many unknowns a basis that fills half the space or more is replaced by a dense
 // solve: block Lanczos's last blocks then lie almost inside its basis. On the icosahedron (12
 // vertices, eigenvalues of multiplicities 1, 3, 5, 3) its pairs came out with ΦᵀMΦ − I of 1e-7,
@@ -210,13 +258,31 @@ Eigenpairs block_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, in
 // residuals of 6.4e-5 (both found by fuzz_pipeline).
 constexpr int kMaxDenseUnknowns = 400;
 
-// All pairs of the dense problem, the k smallest kept (exact to rounding, M-orthonormal).
-Eigenpairs dense_eigenpairs(const Sparse& L, const Sparse& M, int k, EigenReport& report) {
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense{Eigen::MatrixXd(L), Eigen::MatrixXd(M)};
+// All pairs of the dense problem, the k smallest kept (exact to rounding, M-orthonormal). With
+// modes to leave out, the problem on their complement, whose basis is the unit vectors minus
+// their parts along the modes, without the first vertex of each mode's component.
+Eigenpairs dense_eigenpairs(const Sparse& L, const Sparse& M, int k, const detail::ConstantModes* deflated,
+                            EigenReport& report) {
+    Eigen::MatrixXd A(L), B(M), basis;
+    if (deflated != nullptr) {
+        std::vector<int> kept;
+        std::vector<char> seen(static_cast<size_t>(deflated->count()), 0);
+        for (int i = 0; i < static_cast<int>(L.rows()); ++i) {
+            const int mode = deflated->mode_of[static_cast<size_t>(i)];
+            if (mode < 0 || std::exchange(seen[static_cast<size_t>(mode)], 1) != 0) kept.push_back(i);
+        }
+        basis = Eigen::MatrixXd::Zero(L.rows(), static_cast<Eigen::Index>(kept.size()));
+        for (size_t c = 0; c < kept.size(); ++c) basis(kept[c], static_cast<Eigen::Index>(c)) = 1;
+        deflated->project_out(basis);
+        A = basis.transpose() * L * basis;
+        B = basis.transpose() * M * basis;
+    }
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense{A, B};
     if (dense.info() != Eigen::Success)
         throw NumericalError("eigenpairs: the dense solve failed (M not positive definite?)");
     report.status = EigenStatus::converged;
-    return {dense.eigenvalues().head(k), dense.eigenvectors().leftCols(k)};
+    if (deflated == nullptr) return {dense.eigenvalues().head(k), dense.eigenvectors().leftCols(k)};
+    return {dense.eigenvalues().head(k), basis * dense.eigenvectors().leftCols(k)};
 }
 
 // The report's accuracy: the largest relative residual ‖Lφ − λMφ‖ / (max(|λ|, |σ|) ‖Mφ‖) and the
@@ -305,18 +371,10 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     if (k < 1 || k >= n)
         throw InvalidArgumentError("eigenpairs: k must satisfy 1 <= k < n = " + std::to_string(n) + ", got " +
                                    std::to_string(k));
-    // Lanczos from one start vector can miss members of a cluster of (nearly) equal eigenvalues
-    // when only the wanted pairs are tested for convergence; on icospheres it did. So it is asked
-    // for a margin of extra pairs, which must converge too, and the k smallest are kept. Blocks
-    // find up to block-size equal eigenvalues at once and need a smaller margin.
-    const bool block = options.solver == EigenSolver::block_lanczos;
-    const int with_margin = std::min(n - 1, k + std::max(kMinEigenMargin, block ? k / 5 : k / 2));
-    const int default_basis = block ? std::max(6 * with_margin, 160) : std::max(2 * with_margin + 1, 20);
-    const int basis = options.basis_size == 0 ? std::min(n, default_basis) : options.basis_size;
-    if (basis <= k || basis > n)
+    if (options.basis_size != 0 && (options.basis_size <= k || options.basis_size > n))
         throw InvalidArgumentError("eigenpairs: basis_size must be in (k, n] = (" + std::to_string(k) + ", " +
-                                   std::to_string(n) + "], got " + std::to_string(basis));
-    const int nev = std::min(with_margin, basis - 1);
+                                   std::to_string(n) + "], got " + std::to_string(options.basis_size));
+    const bool block = options.solver == EigenSolver::block_lanczos;
 
     EigenReport report;
     report.solver = options.solver;
@@ -329,12 +387,23 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
                                    std::to_string(M.diagonal().sum()) + "); pass sigma");
 
     EigenResult result;
-    if (options.progress && !block)
-        std::fprintf(stderr, "eigs: Spectra's Lanczos for %d pairs (n = %d; no lines until it ends)\n", k, n);
-    const bool dense = block && 2 * basis >= n && n <= kMaxDenseUnknowns;
-    Eigenpairs pairs = dense   ? dense_eigenpairs(L_unit, M_unit, k, report)
-                       : block ? block_eigenpairs(L_unit, M_unit, k, nev, basis, options, report)
-                             : spectra_eigenpairs(L_unit, M_unit, k, nev, basis, options, report);
+    const bool dense = block && 2 * lanczos_size(k, n, options).basis >= n && n <= kMaxDenseUnknowns;
+    // The components' constant functions are eigenvectors of eigenvalue 0 (constant_modes.hpp),
+    // hence among the smallest pairs, L being positive semidefinite. The solvers seek the other
+    // pairs in their complement (Lanczos when its basis leaves room there; else all k).
+    const detail::ConstantModes modes = detail::constant_modes(L_unit, M_unit);
+    const int known = std::min(k, modes.count()), complement = n - modes.count();
+    const bool deflate = known > 0 && (dense || lanczos_size(k - known, complement, options).basis < complement);
+    const int sought = deflate ? k - known : k;
+    const LanczosSize size = lanczos_size(sought, deflate ? complement : n, options);
+    const detail::ConstantModes* deflated = deflate ? &modes : nullptr;
+    if (options.progress && !block && sought > 0)
+        std::fprintf(stderr, "eigs: Spectra's Lanczos for %d pairs (n = %d; no lines until it ends)\n", sought, n);
+    Eigenpairs pairs = sought == 0 ? Eigenpairs{}
+                       : dense     ? dense_eigenpairs(L_unit, M_unit, sought, deflated, report)
+                       : block ? block_eigenpairs(L_unit, M_unit, sought, size.nev, size.basis, options, deflated, report)
+                               : spectra_eigenpairs(L_unit, M_unit, sought, size.nev, size.basis, options, deflated, report);
+    if (deflate) pairs = with_constant_modes(pairs, modes, k);
     measure_accuracy(L_unit, M_unit, pairs.values, pairs.vectors, report);  // relative: the same in any unit
     report.sigma /= to_unit;
     result.values = pairs.values / to_unit;

@@ -3,10 +3,11 @@
 // semidefinite, M symmetric positive definite, both n x n): shift-invert Lanczos on a sparse
 // Cholesky factor of L − σM with a negative shift σ, so L − σM is positive definite even though
 // L is singular. Two Lanczos variants: block Lanczos (default: blocks of 4 solves, BLAS-3
-// orthogonalization) and Spectra's restarted single-vector Lanczos. The constant functions are
-// not removed: a mesh gets one zero eigenvalue per connected component, and they come out like
-// any other eigenvalue. Spectra and CHOLMOD stay
-// behind this header (target sdmesh::solvers).
+// orthogonalization) and Spectra's restarted single-vector Lanczos. A mesh gets one zero
+// eigenvalue per connected component, with the component's constant function: these pairs are
+// known (where L's rows sum to zero), returned first, normalised, in the order of the components'
+// lowest vertices, and Lanczos seeks only the others, in their M-orthogonal complement.
+// Spectra and CHOLMOD stay behind this header (target sdmesh::solvers).
 //
 //   const auto t = sdmesh::Triangulation::from_mesh(sdmesh::read_mesh("bunny.obj"));
 //   const sdmesh::EigenResult r = sdmesh::smallest_eigenpairs(

@@ -1,0 +1,71 @@
+#include "constant_modes.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "union_find.hpp"
+
+namespace sdmesh::detail {
+
+using Sparse = Eigen::SparseMatrix<double>;
+
+Eigen::VectorXd ConstantModes::vector(int j) const {
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mode_of.size()));
+    const double height = 1 / std::sqrt(mass[j]);
+    for (size_t i = 0; i < mode_of.size(); ++i)
+        if (mode_of[i] == j) z[static_cast<Eigen::Index>(i)] = height;
+    return z;
+}
+
+void ConstantModes::project_out(Eigen::Ref<Eigen::MatrixXd> X) const {
+    const auto n = static_cast<Eigen::Index>(mode_of.size());
+    Eigen::VectorXd mean(count());
+    for (Eigen::Index c = 0; c < X.cols(); ++c) {
+        mean.setZero();
+        for (Eigen::Index i = 0; i < n; ++i)
+            if (mode_of[i] >= 0) mean[mode_of[i]] += column_mass[i] * X(i, c);
+        mean.array() /= mass.array();
+        for (Eigen::Index i = 0; i < n; ++i)
+            if (mode_of[i] >= 0) X(i, c) -= mean[mode_of[i]];
+    }
+}
+
+ConstantModes constant_modes(const Sparse& L, const Sparse& M) {
+    const int n = static_cast<int>(L.rows());
+    UnionFind components(n);
+    for (const Sparse* A : {&L, &M})
+        for (int j = 0; j < A->outerSize(); ++j)
+            for (Sparse::InnerIterator it(*A, j); it; ++it)
+                if (it.value() != 0 && it.row() != j) components.unite(static_cast<int>(it.row()), j);
+    // A component qualifies when every row of L in it sums to zero, to the rounding of its
+    // entries (L is symmetric: columns are rows).
+    std::vector<char> qualifies(static_cast<size_t>(n), 1);  // per component root
+    for (int j = 0; j < L.outerSize(); ++j) {
+        double sum = 0, magnitude = 0;
+        int entries = 0;
+        for (Sparse::InnerIterator it(L, j); it; ++it) sum += it.value(), magnitude += std::abs(it.value()), ++entries;
+        if (!(std::abs(sum) <= 8 * entries * std::numeric_limits<double>::epsilon() * magnitude))
+            qualifies[components.find(j)] = 0;
+    }
+    ConstantModes modes;
+    modes.mode_of.assign(static_cast<size_t>(n), -1);
+    std::vector<int> mode_of_root(static_cast<size_t>(n), -1);
+    int count = 0;
+    for (int v = 0; v < n; ++v) {
+        const int root = components.find(v);
+        if (!qualifies[root]) continue;
+        if (mode_of_root[root] < 0) mode_of_root[root] = count++;
+        modes.mode_of[v] = mode_of_root[root];
+    }
+    // Column sums: M's columns lie inside their component.
+    modes.column_mass = Eigen::VectorXd::Zero(n);
+    modes.mass = Eigen::VectorXd::Zero(count);
+    for (int j = 0; j < n; ++j) {
+        if (modes.mode_of[j] < 0) continue;
+        for (Sparse::InnerIterator it(M, j); it; ++it) modes.column_mass[j] += it.value();
+        modes.mass[modes.mode_of[j]] += modes.column_mass[j];
+    }
+    return modes;
+}
+
+}  // namespace sdmesh::detail
