@@ -156,10 +156,10 @@ Matrix gram(const Matrix& W, const MassProduct& M) {
 // W = Q R with QᵀMQ = I, by SVQB (eigendecomposition of the Gram matrix G = WᵀMW, then
 // scaling). One pass loses orthogonality in proportion to the square of W's condition number, so
 // a second pass follows when that square exceeds kRepeatCondition. Directions of norm below
-// kLostDirection · `scale` are dropped (their rows of R are zero) and replaced by random ones
-// (deflated) orthogonalized against V; those below kReprojectBelow · `scale` are projected against V once
-// more first. Q (n x b, not overlapping V) receives the result, written in place (the basis's
-// next block: a copy of each block cost 12 ms on nefertiti); W is scratch. Returns R.
+// kLostDirection · `scale` are dropped (their rows of R are zero) and replaced by random ones,
+// deflated and orthogonalized against V; those below kReprojectBelow · `scale` are projected
+// against V once more first. Q (n x b, not overlapping V) receives the result, written in place
+// (the basis's next block: a copy of each block cost 12 ms on nefertiti); W is scratch. Returns R.
 Matrix orthonormalize(const Eigen::Ref<const Matrix>& V, const MassProduct& M, Matrix& W, const Matrix& G, double scale,
                       std::uint64_t seed, const BlockLanczosOptions& options, Eigen::Ref<Matrix> Q) {
     const Index b = W.cols();
@@ -313,8 +313,8 @@ BlockLanczosResult block_lanczos(const CholeskySolver& K, const Sparse& mass, co
             previous_test = step;
         }
         if (last) break;
-        const Matrix R =
-            orthonormalize(V.leftCols(m), M, W, G, scale, 3 + static_cast<std::uint64_t>(step), options, V.middleCols(m, b));
+        const Matrix R = orthonormalize(V.leftCols(m), M, W, G, scale, 3 + static_cast<std::uint64_t>(step), options,
+                                        V.middleCols(m, b));
         T.block(m, step * b, b, b) = R;
         T.block(step * b, m, b, b) = R.transpose();
     }

@@ -395,10 +395,11 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     const detail::ConstantModes* deflated = deflate ? &modes : nullptr;
     if (options.progress && !block && sought > 0)
         std::fprintf(stderr, "eigs: Spectra's Lanczos for %d pairs (n = %d; no lines until it ends)\n", sought, n);
+    const auto [nev, basis] = size;
     Eigenpairs pairs = sought == 0 ? Eigenpairs{}
                        : dense     ? dense_eigenpairs(L_unit, M_unit, sought, deflated, report)
-                       : block ? block_eigenpairs(L_unit, M_unit, sought, size.nev, size.basis, options, deflated, report)
-                               : spectra_eigenpairs(L_unit, M_unit, sought, size.nev, size.basis, options, deflated, report);
+                       : block     ? block_eigenpairs(L_unit, M_unit, sought, nev, basis, options, deflated, report)
+                                   : spectra_eigenpairs(L_unit, M_unit, sought, nev, basis, options, deflated, report);
     if (deflate) pairs = with_constant_modes(pairs, modes, k);
     measure_accuracy(L_unit, M_unit, pairs.values, pairs.vectors, report);  // relative: the same in any unit
     report.sigma /= to_unit;
