@@ -230,16 +230,6 @@ inline TriangleMesh tetrahedron() {
     return make_mesh({{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}}, {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}});
 }
 
-/// Translates a copy of `b` by `shift` and appends it to `a` as another component.
-inline TriangleMesh disjoint_union(const TriangleMesh& a, const TriangleMesh& b, double shift) {
-    TriangleMesh mesh;
-    mesh.V.resize(a.V.rows() + b.V.rows(), 3);
-    mesh.V << a.V, b.V.rowwise() + Eigen::RowVector3d(shift, 0, 0);
-    mesh.F.resize(a.F.rows() + b.F.rows(), 3);
-    mesh.F << a.F, b.F.array() + a.num_vertices();
-    return mesh;
-}
-
 /// A Möbius strip of `n` quads (2n triangles): the band is closed with a half twist.
 inline TriangleMesh moebius_strip(int n) {
     TriangleMesh mesh;

@@ -23,6 +23,16 @@ inline TriangleMesh make_mesh(std::initializer_list<Eigen::RowVector3d> vertices
     return mesh;
 }
 
+/// Translates a copy of `b` by `shift` and appends it to `a` as another component.
+inline TriangleMesh disjoint_union(const TriangleMesh& a, const TriangleMesh& b, double shift) {
+    TriangleMesh mesh;
+    mesh.V.resize(a.V.rows() + b.V.rows(), 3);
+    mesh.V << a.V, b.V.rowwise() + Eigen::RowVector3d(shift, 0, 0);
+    mesh.F.resize(a.F.rows() + b.F.rows(), 3);
+    mesh.F << a.F, b.F.array() + a.num_vertices();
+    return mesh;
+}
+
 /// Sum of the face areas.
 inline double total_area(const TriangleMesh& mesh) {
     double area = 0;

@@ -303,16 +303,7 @@ TEST(SphereSpectrum, ClustersOfEqualEigenvaluesAreFoundWhole) {
 // The meshes side by side in one mesh, each moved 3 units along x from the one before.
 TriangleMesh side_by_side(const std::vector<TriangleMesh>& parts) {
     TriangleMesh all;
-    Eigen::Index vertices = 0, faces = 0;
-    for (const TriangleMesh& part : parts) vertices += part.V.rows(), faces += part.F.rows();
-    all.V.resize(vertices, 3);
-    all.F.resize(faces, 3);
-    vertices = faces = 0;
-    for (size_t i = 0; i < parts.size(); ++i) {
-        all.V.middleRows(vertices, parts[i].V.rows()) = parts[i].V.rowwise() + Eigen::RowVector3d(3.0 * static_cast<double>(i), 0, 0);
-        all.F.middleRows(faces, parts[i].F.rows()) = parts[i].F.array() + static_cast<int>(vertices);
-        vertices += parts[i].V.rows(), faces += parts[i].F.rows();
-    }
+    for (size_t i = 0; i < parts.size(); ++i) all = test::disjoint_union(all, parts[i], 3.0 * static_cast<double>(i));
     return all;
 }
 
