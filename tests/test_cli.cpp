@@ -100,6 +100,31 @@ TEST_F(Cli, AConversionThatIsNotCertifiedSaysWhyInOneLine) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
+// The solvers solve on a --convert mesh that is not certified, write their outputs, say so in
+// one line and exit 1.
+TEST_F(Cli, SolversSayWhenTheirConvertedMeshIsNotCertified) {
+    const std::string obtuse = write_text("obtuse.obj", "v 0 0 0\nv 2 0 0\nv 1 0.2 0\nf 1 2 3\n");
+    const std::string f = write_text("f.txt", "1\n0\n0\n");
+    const std::vector<std::pair<std::string, std::string>> commands = {
+        {"eigs", "eigs " + obtuse + " -k 2 --out " + path("eigs")},
+        {"geodesic", "geodesic " + obtuse + " --source 0 --out " + path("distance.ply")},
+        {"poisson", "poisson " + obtuse + " --f " + f + " --dirichlet " + write_text("d.txt", "2 0\n") + " --out " +
+                        path("u.ply")},
+        {"heat", "heat " + obtuse + " --source 0 --time 0.1 --out " + path("heat.ply")}};
+    for (const auto& [command, line] : commands) {
+        const CliRun r = run_cli(line + " --convert flip");
+        EXPECT_EQ(r.code, 1) << line << "\n" << r.err;
+        EXPECT_EQ(r.err, "sdmesh " + command + ": " + obtuse +
+                             ": the --convert flip mesh is not certified (not_certified, 0 non-Delaunay edges and 1 "
+                             "obtuse boundary edges left; sdmesh convert says more)\n")
+            << line;
+        EXPECT_NE(r.out.find("\"conversion_status\": \"not_certified\""), std::string::npos) << line << r.out;
+        EXPECT_EQ(run_cli(line).code, 0) << line;  // on the mesh as read
+    }
+    for (const char* output : {"eigs/eigenvalues.csv", "distance.ply", "u.ply", "heat.ply"})
+        EXPECT_TRUE(fs::exists(path(output))) << output;
+}
+
 TEST_F(Cli, NoHausdorffReportsNullInsteadOfADistance) {
     const std::string hybrid = "convert " + kBunny + " " + path("bunny_hybrid.obj") + " --method hybrid";
     const CliRun measured = run_cli(hybrid);

@@ -491,11 +491,12 @@ TEST_F(Cli, ProgressGoesToStandardErrorAndChangesNothing) {
         EXPECT_EQ(read(dir_ / "loud" / file), read(dir_ / "quiet" / file)) << file;
 }
 
-// Pairs that did not converge are written, with the status in report.json and one line on stderr.
+// Pairs that did not converge are written, with the status in report.json, one line on stderr
+// and exit code 1.
 TEST_F(Cli, SaysOnStandardErrorWhenItDidNotConverge) {
     write_mesh(dir_ / "sphere.off", make_icosphere(3));
     const fs::path out = dir_ / "eigs";
-    ASSERT_EQ(run("eigs " + (dir_ / "sphere.off").string() + " -k 6 --tolerance 1e-30 --out " + out.string()), 0)
+    ASSERT_EQ(run("eigs " + (dir_ / "sphere.off").string() + " -k 6 --tolerance 1e-30 --out " + out.string()), 1)
         << read(dir_ / "err.txt");
     EXPECT_NE(read(out / "report.json").find("\"status\": \"not_converged\""), std::string::npos);
     const std::string err = read(dir_ / "err.txt");

@@ -530,10 +530,16 @@ TEST_F(Cli, ReportsAnImproperResultAndAnExhaustedBudget) {
 
     write_mesh(dir_ / "grid.obj", make_grid(10, 8, 1.0, 1.0, 1.5));
     const std::string grid = (dir_ / "grid.obj").string();
-    ASSERT_EQ(run("intrinsic " + grid + " --out " + (dir_ / "grid").string() + " --max-flips 2"), 0);
+    // Out of its budget: the files are written, one line says so, and the exit code is 1.
+    ASSERT_EQ(run("intrinsic " + grid + " --out " + (dir_ / "grid").string() + " --max-flips 2"), 1);
     const std::string budget = out();
     EXPECT_NE(budget.find("\"flips\": 2,"), std::string::npos) << budget;
     EXPECT_NE(budget.find("\"status\": \"flip_budget_exhausted\""), std::string::npos) << budget;
+    EXPECT_TRUE(fs::exists(dir_ / "grid" / "L.mtx"));
+    const std::string err = read(dir_ / "err.txt");
+    EXPECT_EQ(err, "sdmesh intrinsic: " + grid +
+                       ": the intrinsic flips ran out of their budget after 2 flips: the triangulation is not "
+                       "Delaunay (--max-flips sets the budget)\n");
 }
 
 TEST_F(Cli, RejectsBadArguments) {

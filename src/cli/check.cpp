@@ -108,7 +108,7 @@ int run_check(Args& args) {
     }
     if (const std::string defect = first_defect(in.info); !defect.empty())
         std::cerr << "sdmesh check: " << path << ": not self-Delaunay: " << defect << '\n';
-    return cert.self_delaunay ? kSuccess : kNotSelfDelaunay;
+    return cert.self_delaunay ? kSuccess : kFellShort;
 }
 
 }  // namespace sdmesh::cli

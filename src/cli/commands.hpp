@@ -12,7 +12,10 @@ namespace sdmesh::cli {
 /// Exit codes, documented in README.md.
 enum ExitCode : int {
     kSuccess = 0,
-    kNotSelfDelaunay = 1,
+    /// The outputs are written but fall short of what was asked, with one line on stderr saying
+    /// how: not self-Delaunay (check, convert, decimate), flip budget exhausted (intrinsic), not
+    /// converged (eigs), or a solver's --convert or --intrinsic mesh not Delaunay.
+    kFellShort = 1,
     kUsage = 2,
     kIoError = 3,
     kUnsupportedFormat = 4,

@@ -104,7 +104,7 @@ int run_convert(Args& args) {
                   << r.certificate.non_delaunay_edges << " non-Delaunay edges and "
                   << r.certificate.boundary_obtuse_edges << " obtuse boundary edges " << rest << ")\n";
     }
-    return r.status == ConvertStatus::certified ? kSuccess : kNotSelfDelaunay;
+    return r.status == ConvertStatus::certified ? kSuccess : kFellShort;
 }
 
 }  // namespace sdmesh::cli

@@ -118,7 +118,7 @@ int run_decimate(Args& args) {
                   << r.target_vertices << ")\n";
     if (!r.certificate.self_delaunay) {
         std::cerr << "sdmesh decimate: " << paths[1] << ": the output is not self-Delaunay\n";
-        return kNotSelfDelaunay;
+        return kFellShort;
     }
     return kSuccess;
 }

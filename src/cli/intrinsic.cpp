@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <iostream>
 #include <string>
 
 #include "cli/commands.hpp"
@@ -36,6 +37,10 @@ int run_intrinsic(Args& args) {
     report.merge(intrinsic_json(options, idt.report))
         .add("seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     write_report(dir, report);
+    if (const std::string shortfall = flip_budget_message(idt.report); !shortfall.empty()) {
+        std::cerr << "sdmesh intrinsic: " << path << ": " << shortfall << "\n";
+        return kFellShort;
+    }
     return kSuccess;
 }
 

@@ -46,12 +46,14 @@ Commands:
                                   L, M, d0, d1, star0/1/2 as Matrix Market files and report.json in DIR
   intrinsic MESH --out DIR [--mass ...] [--tolerance RAD] [--max-flips N]
                                   the same files for the intrinsic Delaunay triangulation (edge
-                                  flips, vertices kept); report.json adds flips, proper, status
+                                  flips, vertices kept); report.json adds flips, proper, status;
+                                  exit 1 if the flips run out of their budget
   eigs MESH -k K --out DIR [--mass ...] [--convert split|hybrid|flip | --intrinsic] [--sigma S]
           [--tolerance T] [--solver block|spectra] [--progress]
                                   the K smallest eigenpairs of L φ = λ M φ: eigenvalues.csv,
                                   eigenvectors.bin (int32 n, int32 k, k columns of n doubles,
-                                  little endian) and report.json in DIR
+                                  little endian) and report.json in DIR; exit 1 if not
+                                  converged (the pairs are then approximations)
   geodesic MESH --source V[,V...] --out FILE.ply [--mass ...] [--convert METHOD | --intrinsic]
           [--time T]              heat-method distance to the nearest source, as the PLY vertex
                                   field `distance`; the report (JSON) goes to stdout
@@ -62,9 +64,10 @@ Commands:
                                   backward Euler heat steps from u0; PLY vertex field `u`
 
 Mesh files: .obj .off .ply .stl, each optionally .gz.
-Exit codes: 0 ok, 1 not self-Delaunay / not certified, 2 usage, 3 I/O error, 4 unsupported format,
-            5 malformed file, 6 invalid mesh, 7 invalid argument, 8 numerical error,
-            70 internal error.
+Exit codes: 0 ok, 1 outputs written but short of the goal (not self-Delaunay, not certified,
+            flip budget exhausted, not converged; one line on stderr says which), 2 usage,
+            3 I/O error, 4 unsupported format, 5 malformed file, 6 invalid mesh,
+            7 invalid argument, 8 numerical error, 70 internal error.
 )";
 
 struct Command {

@@ -202,6 +202,12 @@ JsonObject intrinsic_json(const IntrinsicOptions& options, const IntrinsicReport
     return json;
 }
 
+std::string flip_budget_message(const IntrinsicReport& report) {
+    if (report.status != "flip_budget_exhausted") return {};
+    return "the intrinsic flips ran out of their budget after " + std::to_string(report.flips) +
+           " flips: the triangulation is not Delaunay (--max-flips sets the budget)";
+}
+
 std::string not_converged_message(const EigenReport& report) {
     char residual[32];
     std::snprintf(residual, sizeof residual, "%.3g", report.max_residual);

@@ -71,6 +71,9 @@ JsonObject operator_summary_json(const Triangulation& t, std::string_view mass_n
 /// What `sdmesh intrinsic` adds to the operator summary (flip report, before "seconds").
 JsonObject intrinsic_json(const IntrinsicOptions& options, const IntrinsicReport& report);
 
+/// Why intrinsic flips did not reach the iDT ("ran out of their budget ..."); empty when they did.
+std::string flip_budget_message(const IntrinsicReport& report);
+
 /// The solver part of `sdmesh eigs`'s report.json (k, converged_pairs, status, ..., seconds).
 JsonObject eigen_json(int k, const EigenResult& result);
 

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "cli/reports.hpp"
 #include "cli/shared_options.hpp"
 #include "sdmesh/intrinsic.hpp"
 #include "sdmesh/io.hpp"
@@ -51,12 +53,19 @@ SolverInput load_solver_input(const std::string& path, const SolverChoices& choi
             report.add("mesh", "converted")
                 .add("method", to_string(*choices.convert))
                 .add("conversion_status", to_string(converted.report.status));
+            if (const ConversionReport& r = converted.report; r.status != ConvertStatus::certified)
+                input.shortfall = "the --convert " + std::string(to_string(*choices.convert)) +
+                                  " mesh is not certified (" + std::string(to_string(r.status)) + ", " +
+                                  std::to_string(r.certificate.non_delaunay_edges) + " non-Delaunay edges and " +
+                                  std::to_string(r.certificate.boundary_obtuse_edges) +
+                                  " obtuse boundary edges left; sdmesh convert says more)";
         }
         input.triangulation = Triangulation::from_mesh(input.mesh);
         if (choices.intrinsic) {
             IntrinsicResult idt = intrinsic_delaunay(input.triangulation);
             input.triangulation = std::move(idt.triangulation);
             report.add("mesh", "intrinsic").add("flips", idt.report.flips).add("flip_status", idt.report.status);
+            input.shortfall = flip_budget_message(idt.report);
         }
         if (!choices.convert && !choices.intrinsic) report.add("mesh", "extrinsic");
     });
@@ -64,6 +73,13 @@ SolverInput load_solver_input(const std::string& path, const SolverChoices& choi
         .add("vertices", input.triangulation.num_vertices)
         .add("faces", input.triangulation.num_faces());
     return input;
+}
+
+int solver_exit_code(const std::string& command, const std::string& path, const SolverInput& input,
+                     const std::string& own) {
+    for (const std::string* message : {&input.shortfall, &own})
+        if (!message->empty()) std::fprintf(stderr, "sdmesh %s: %s: %s\n", command.c_str(), path.c_str(), message->c_str());
+    return input.shortfall.empty() && own.empty() ? kSuccess : kFellShort;
 }
 
 std::vector<int> parse_vertex_list(const std::string& option, const std::string& text) {
