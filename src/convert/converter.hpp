@@ -99,6 +99,10 @@ constexpr int kFewestPointsPasses = 4;
 // pairs them all (a warped fan of 500 needles with 176 points each spent 11 of its 12 s here;
 // of the corpus's conversions, only occt_head's with the shell rule has such edges).
 constexpr size_t kFewestPointsMaxPairs = 16384;
+// ... and edges where testing each piece of the sides beside them against the points of the face
+// across that side takes more tests than this (chairWithCushion, 10 k vertices, spent 19 of its
+// 31 s in such tests, up to 1.8e7 for one edge; the corpus needs at most 25 k).
+constexpr size_t kFewestPointsMaxSideTests = size_t{1} << 18;
 // The lower bound takes an edge for broken only where its margin is below minus the
 // locally-Delaunay tolerance by more than this (rounding of the margin, ~1e-15).
 constexpr double kBoundRounding = 1e-12;

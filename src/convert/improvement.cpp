@@ -217,6 +217,7 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
         // reach() pairs the points across e, once for each point placed.
         if (sides == 2 && points[0].size() * points[1].size() > kFewestPointsMaxPairs) return std::nullopt;
         forbidden.clear();
+        size_t side_tests = 0;
         for (int side = 0; side < sides; ++side) {
             const int f = input_face(e, side);
             for (int k = 0; k < 3; ++k) {
@@ -227,6 +228,8 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
                 if (across >= 0) gather(across, g, others);
                 const Eigen::Vector3d& w = P_[input_.F(f, k)];  // the corner of f off g, on e
                 pieces_of(g);
+                if (across >= 0) side_tests += others.size() * (chain.size() - 1);
+                if (side_tests > kFewestPointsMaxSideTests) return std::nullopt;
                 for (size_t j = 0; j + 1 < chain.size(); ++j) {
                     const Eigen::Vector3d &u = P_[chain[j]], &v = P_[chain[j + 1]];
                     // x on e breaks u-v where it sees it under a cotangent below c: inside
