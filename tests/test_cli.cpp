@@ -116,7 +116,7 @@ TEST_F(Cli, SolversSayWhenTheirConvertedMeshIsNotCertified) {
         EXPECT_EQ(r.code, 1) << line << "\n" << r.err;
         EXPECT_EQ(r.err, "sdmesh " + command + ": " + obtuse +
                              ": the --convert flip mesh is not certified (not_certified, 0 non-Delaunay edges and 1 "
-                             "obtuse boundary edges left; sdmesh convert says more)\n")
+                             "obtuse boundary edges left); sdmesh convert says more\n")
             << line;
         EXPECT_NE(r.out.find("\"conversion_status\": \"not_certified\""), std::string::npos) << line << r.out;
         EXPECT_EQ(run_cli(line).code, 0) << line;  // on the mesh as read

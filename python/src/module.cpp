@@ -179,6 +179,12 @@ py::tuple repair_py(py::handle V, py::handle F, const RepairOptions& options) {
     return py::make_tuple(to_numpy(std::move(repaired.V)), to_numpy(std::move(repaired.F)), report);
 }
 
+// Where the CLI exits 1 with a line on stderr (a conversion not certified, intrinsic flips out of
+// their budget, eigenpairs not converged), Python warns; the report says the same.
+void warn(const std::string& message) {
+    py::module_::import("warnings").attr("warn")(message, py::handle(PyExc_RuntimeWarning));
+}
+
 py::tuple convert_py(py::handle V, py::handle F, const std::string& method, const std::string& split_rule,
                      double max_dihedral_deg, double coplanar_tolerance, const std::string& boundary, double tolerance,
                      long long max_vertices, int cascade_trials, int local_search, bool progress,
@@ -202,6 +208,8 @@ py::tuple convert_py(py::handle V, py::handle F, const std::string& method, cons
         py::gil_scoped_release unlocked;
         result = convert(mesh, options);
     }
+    if (result.report.status != ConvertStatus::certified)
+        warn("convert: " + cli::not_certified_summary(result.report) + "; the report says more");
     const py::dict report = to_dict(cli::conversion_json(options, result.report));
     return py::make_tuple(to_numpy(std::move(result.mesh.V)), to_numpy(std::move(result.mesh.F)), report);
 }
@@ -286,6 +294,8 @@ py::tuple intrinsic_operators_py(py::handle V, py::handle F, const std::string& 
         py::gil_scoped_release unlocked;
         idt = intrinsic_delaunay(Triangulation::from_mesh(mesh), options);
     }
+    if (const std::string shortfall = cli::flip_budget_message(idt.report); !shortfall.empty())
+        warn("intrinsic_operators: " + shortfall);
     cli::JsonObject report;
     py::dict operators = operator_dict(idt.triangulation, choice, &report);
     report.merge(cli::intrinsic_json(options, idt.report)).add("seconds", seconds_since(start));
@@ -313,9 +323,19 @@ Operators solver_operators(py::handle first, py::handle second, const std::optio
                              "scipy.sparse");
     const MassType type = parse_mass(mass.value_or(kDefaultMass)).type;
     const TriangleMesh mesh = mesh_from_arrays(first, second);
+    Triangulation t;
+    std::string shortfall;
+    {
+        py::gil_scoped_release unlocked;
+        t = Triangulation::from_mesh(mesh);
+        if (intrinsic) {
+            IntrinsicResult idt = intrinsic_delaunay(t);
+            t = std::move(idt.triangulation);
+            shortfall = cli::flip_budget_message(idt.report);
+        }
+    }
+    if (!shortfall.empty()) warn("intrinsic: " + shortfall);
     py::gil_scoped_release unlocked;
-    Triangulation t = Triangulation::from_mesh(mesh);
-    if (intrinsic) t = intrinsic_delaunay(t).triangulation;
     return {cotan_laplacian(t), mass_matrix(t, type)};
 }
 
@@ -333,9 +353,7 @@ py::object eigs_py(py::handle first, py::handle second, int k, const std::option
         py::gil_scoped_release unlocked;
         result = smallest_eigenpairs(ops.L, ops.M, options);
     }
-    if (result.report.status != EigenStatus::converged)
-        py::module_::import("warnings").attr("warn")("eigs: " + cli::not_converged_message(result.report),
-                                                     py::handle(PyExc_RuntimeWarning));
+    if (result.report.status != EigenStatus::converged) warn("eigs: " + cli::not_converged_message(result.report));
     const py::dict report = to_dict(cli::eigen_json(k, result));
     py::array values = to_numpy(std::move(result.values)), vectors = to_numpy(std::move(result.vectors));
     if (return_report) return py::make_tuple(values, vectors, report);
@@ -480,7 +498,8 @@ sdmesh/convert.hpp). cascade_trials: split positions tried where a split must br
 (0: none). local_search: passes of local search after a split conversion, for fewer
 vertices at more time (0: none). measure_hausdorff=False skips report["hausdorff_rel"] (None then,
 where flips may have moved the surface). New vertices come after the input's. report: the keys of `sdmesh convert`'s
-JSON except input/output; report["status"] is "certified", "budget_exhausted" or "not_certified".
+JSON except input/output; report["status"] is "certified", "budget_exhausted" or "not_certified"
+(a RuntimeWarning says so when it is not "certified").
 Raises InvalidMeshError (run a repair first), InvalidArgumentError.)");
 
     const DecimateOptions decimate_defaults;
@@ -520,7 +539,8 @@ Raises InvalidMeshError (non-manifold edge, repeated index, zero-length edge...)
 
 The operators of operators() on the intrinsic Delaunay triangulation of the mesh (same vertices,
 edges flipped), and the report of `sdmesh intrinsic` (without "file"): flips, proper, status...
-max_flips < 0: automatic budget.)");
+max_flips < 0: automatic budget; status "flip_budget_exhausted" (a RuntimeWarning says so) when it
+runs out. The solvers' intrinsic=True warns the same way.)");
 
     m.def("eigs", &eigs_py, arg("V_or_L"), arg("F_or_M"), arg("k") = eigen_defaults.k, py::kw_only(),
           arg("mass") = py::none(), arg("intrinsic") = false, arg("sigma") = py::none(),

@@ -229,6 +229,22 @@ def test_eigs_warns_when_it_did_not_converge(converted_bunny):
     assert report["status"] == "not_converged" and abs(values[0]) <= 1e-6
 
 
+def test_what_the_cli_exits_1_for_warns(cli, tmp_path, bunny_path, bunny):
+    """A conversion that is not certified and intrinsic flips out of their budget: the CLI writes
+    its outputs, exits 1 and says why on stderr; Python returns them with a RuntimeWarning."""
+    done = cli("convert", bunny_path, tmp_path / "budget.obj", "--max-vertices", "1850", expect=1)
+    with pytest.warns(RuntimeWarning, match=re.escape("convert: not certified (budget_exhausted, ")):
+        _, _, report = sdmesh.convert(*bunny, max_vertices=1850)
+    assert report["status"] == cli_json(done)["status"] == "budget_exhausted"
+
+    done = cli("intrinsic", bunny_path, "--out", tmp_path / "idt", "--max-flips", "2", expect=1)
+    assert "ran out of their budget after 2 flips" in done.stderr
+    with pytest.warns(RuntimeWarning, match=re.escape("intrinsic_operators: the intrinsic flips ran out of their "
+                                                      "budget after 2 flips")):
+        _, report = sdmesh.intrinsic_operators(*bunny, max_flips=2)
+    assert report["status"] == "flip_budget_exhausted"
+
+
 def test_geodesic_equals_the_cli(cli, tmp_path, converted_bunny):
     done = cli("geodesic", converted_bunny, "--source", "0,17", "--out", tmp_path / "d.ply", "--mass", "mixed")
     expected = read_binary_ply_fields(tmp_path / "d.ply", ["distance"])["distance"]

@@ -202,6 +202,12 @@ JsonObject intrinsic_json(const IntrinsicOptions& options, const IntrinsicReport
     return json;
 }
 
+std::string not_certified_summary(const ConversionReport& report) {
+    return "not certified (" + std::string(to_string(report.status)) + ", " +
+           std::to_string(report.certificate.non_delaunay_edges) + " non-Delaunay edges and " +
+           std::to_string(report.certificate.boundary_obtuse_edges) + " obtuse boundary edges left)";
+}
+
 std::string flip_budget_message(const IntrinsicReport& report) {
     if (report.status != "flip_budget_exhausted") return {};
     return "the intrinsic flips ran out of their budget after " + std::to_string(report.flips) +

@@ -71,6 +71,10 @@ JsonObject operator_summary_json(const Triangulation& t, std::string_view mass_n
 /// What `sdmesh intrinsic` adds to the operator summary (flip report, before "seconds").
 JsonObject intrinsic_json(const IntrinsicOptions& options, const IntrinsicReport& report);
 
+/// "not certified (STATUS, N non-Delaunay edges and M obtuse boundary edges left)": what a
+/// conversion that is not certified says where `sdmesh convert`'s own advice does not apply.
+std::string not_certified_summary(const ConversionReport& report);
+
 /// Why intrinsic flips did not reach the iDT ("ran out of their budget ..."); empty when they did.
 std::string flip_budget_message(const IntrinsicReport& report);
 

@@ -53,12 +53,9 @@ SolverInput load_solver_input(const std::string& path, const SolverChoices& choi
             report.add("mesh", "converted")
                 .add("method", to_string(*choices.convert))
                 .add("conversion_status", to_string(converted.report.status));
-            if (const ConversionReport& r = converted.report; r.status != ConvertStatus::certified)
-                input.shortfall = "the --convert " + std::string(to_string(*choices.convert)) +
-                                  " mesh is not certified (" + std::string(to_string(r.status)) + ", " +
-                                  std::to_string(r.certificate.non_delaunay_edges) + " non-Delaunay edges and " +
-                                  std::to_string(r.certificate.boundary_obtuse_edges) +
-                                  " obtuse boundary edges left; sdmesh convert says more)";
+            if (converted.report.status != ConvertStatus::certified)
+                input.shortfall = "the --convert " + std::string(to_string(*choices.convert)) + " mesh is " +
+                                  not_certified_summary(converted.report) + "; sdmesh convert says more";
         }
         input.triangulation = Triangulation::from_mesh(input.mesh);
         if (choices.intrinsic) {
