@@ -2,7 +2,10 @@
 // The subcommands of the `sdmesh` executable. Each returns the process exit code and throws
 // sdmesh::Error or UsageError, which main() maps to exit codes.
 
+#include <cstdio>
+#include <initializer_list>
 #include <string>
+#include <string_view>
 
 #include "cli/args.hpp"
 #include "sdmesh/error.hpp"
@@ -35,6 +38,20 @@ decltype(auto) about_file(const std::string& path, F&& f) {
     } catch (const InvalidMeshError& e) {
         throw InvalidMeshError(path + ": " + e.what());
     }
+}
+
+/// kSuccess, or kFellShort after a line "sdmesh COMMAND: PATH: MESSAGE" on stderr for each of
+/// `shortfalls` that is not empty: how the outputs, written by then, fall short.
+inline int exit_code_after(std::string_view command, const std::string& path,
+                           std::initializer_list<std::string> shortfalls) {
+    int code = kSuccess;
+    for (const std::string& message : shortfalls)
+        if (!message.empty()) {
+            std::fprintf(stderr, "sdmesh %.*s: %s: %s\n", static_cast<int>(command.size()), command.data(),
+                         path.c_str(), message.c_str());
+            code = kFellShort;
+        }
+    return code;
 }
 
 int run_info(Args& args);

@@ -83,8 +83,9 @@ int run_eigs(Args& args) {
     report.merge(eigen_json(options.k, result));
     write_report(dir, report);
     // The pairs are written either way, approximations when they did not converge.
-    return solver_exit_code("eigs", path, input,
-                            result.report.status == EigenStatus::converged ? "" : not_converged_message(result.report));
+    return exit_code_after(
+        "eigs", path,
+        {input.shortfall, result.report.status == EigenStatus::converged ? "" : not_converged_message(result.report)});
 }
 
 }  // namespace sdmesh::cli

@@ -50,7 +50,7 @@ int run_geodesic(Args& args) {
         .add("precompute_seconds", geodesics.report().precompute_seconds)
         .add("query_seconds", query_seconds);
     std::cout << report.str() << '\n';
-    return solver_exit_code("geodesic", path, input);
+    return exit_code_after("geodesic", path, {input.shortfall});
 }
 
 }  // namespace sdmesh::cli

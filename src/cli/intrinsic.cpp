@@ -3,7 +3,6 @@
 
 #include <chrono>
 #include <filesystem>
-#include <iostream>
 #include <string>
 
 #include "cli/commands.hpp"
@@ -37,11 +36,7 @@ int run_intrinsic(Args& args) {
     report.merge(intrinsic_json(options, idt.report))
         .add("seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     write_report(dir, report);
-    if (const std::string shortfall = flip_budget_message(idt.report); !shortfall.empty()) {
-        std::cerr << "sdmesh intrinsic: " << path << ": " << shortfall << "\n";
-        return kFellShort;
-    }
-    return kSuccess;
+    return exit_code_after("intrinsic", path, {flip_budget_message(idt.report)});
 }
 
 }  // namespace sdmesh::cli

@@ -78,7 +78,7 @@ int run_poisson(Args& args) {
         .add("max_u", u.maxCoeff())
         .add("seconds", solve_seconds);
     std::cout << report.str() << '\n';
-    return solver_exit_code("poisson", path, input);
+    return exit_code_after("poisson", path, {input.shortfall});
 }
 
 int run_heat(Args& args) {
@@ -120,7 +120,7 @@ int run_heat(Args& args) {
         .add("max_u", u.maxCoeff())
         .add("seconds", solve_seconds);
     std::cout << report.str() << '\n';
-    return solver_exit_code("heat", path, input);
+    return exit_code_after("heat", path, {input.shortfall});
 }
 
 }  // namespace sdmesh::cli

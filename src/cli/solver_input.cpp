@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -70,13 +69,6 @@ SolverInput load_solver_input(const std::string& path, const SolverChoices& choi
         .add("vertices", input.triangulation.num_vertices)
         .add("faces", input.triangulation.num_faces());
     return input;
-}
-
-int solver_exit_code(const std::string& command, const std::string& path, const SolverInput& input,
-                     const std::string& own) {
-    for (const std::string* message : {&input.shortfall, &own})
-        if (!message->empty()) std::fprintf(stderr, "sdmesh %s: %s: %s\n", command.c_str(), path.c_str(), message->c_str());
-    return input.shortfall.empty() && own.empty() ? kSuccess : kFellShort;
 }
 
 std::vector<int> parse_vertex_list(const std::string& option, const std::string& text) {

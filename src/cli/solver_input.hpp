@@ -43,12 +43,6 @@ struct SolverInput {
 /// vertices, faces and the conversion or flip status to report.
 SolverInput load_solver_input(const std::string& path, const SolverChoices& choices, JsonObject& report);
 
-/// A solver command's exit code once its outputs are written: kSuccess, or kFellShort after a line
-/// "sdmesh COMMAND: PATH: ..." on stderr for the input's shortfall and for `own` (the command's,
-/// e.g. eigs' not converged), each where not empty.
-int solver_exit_code(const std::string& command, const std::string& path, const SolverInput& input,
-                     const std::string& own = {});
-
 /// Vertex indices separated by commas ("3,17"), for --source.
 /// \throws UsageError anything else, or no index.
 std::vector<int> parse_vertex_list(const std::string& option, const std::string& text);
