@@ -1,6 +1,7 @@
 // After the loop: split points removed again, the fewest points per input edge, local search
 // (whose moves of points are in relocation.cpp).
 #include "convert/converter.hpp"
+#include "convert/piece_reach.hpp"
 
 #include <unordered_map>
 
@@ -179,7 +180,9 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
     };
     index_points(static_cast<size_t>(input_vertices_));
     std::vector<Eigen::Vector3d> points[2], others;
-    std::vector<Eigen::Vector2d> unfolded[2];
+    std::vector<UnfoldedPoint> unfolded[2];
+    std::vector<double> on_line;
+    PieceReach reach_across;
     // The corners of face f and the points on its edges but e.
     auto gather = [&](int f, int e, std::vector<Eigen::Vector3d>& out) {
         out.clear();
@@ -247,11 +250,18 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
             }
         }
         std::sort(forbidden.begin(), forbidden.end());
-        // Each face's points unfolded: distance along e from a, and from e's line.
+        // Each face's points unfolded. Across e, reach() pairs the points off e's line; those
+        // on it bound a piece only at their own place, from side 1.
+        on_line.clear();
         for (int side = 0; side < sides; ++side) {
             unfolded[side].clear();
-            for (const Eigen::Vector3d& p : points[side])
-                unfolded[side].emplace_back((p - A).dot(along), (p - A).cross(along).norm());
+            for (const Eigen::Vector3d& p : points[side]) {
+                const double x = (p - A).dot(along), y = (p - A).cross(along).norm();
+                if (y > 0 || sides == 1)
+                    unfolded[side].push_back({x, y, 1 / y});
+                else if (side == 1)
+                    on_line.push_back(x);
+            }
         }
         // The piece from s to t is locally Delaunay against both faces' points, with a margin.
         auto delaunay = [&](double s, double t) {
@@ -259,25 +269,12 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
             if (sides == 1) return !strict || apex_cotangent(points[0], u, v) >= kPlacementMargin;
             return apex_cotangent(points[0], u, v) + apex_cotangent(points[1], u, v) >= kPlacementMargin;
         };
-        // Where the piece from s stops being locally Delaunay. Across e, p and q (at heights
-        // p.y and -q.y) see s-t under angles summing to π where q lies on the circle through
-        // s, t and p: (q.x - s)(q.x - t) + q.y² + κ((p.x - s)(p.x - t) + p.y²) = 0, κ = q.y / p.y,
-        // linear in t. On a strict boundary p sees it under π/2 where κ = 0 and q = p.
+        // Where the piece from s stops being locally Delaunay.
         auto reach = [&](double s) {
+            if (sides == 2) return reach_across(unfolded[0], unfolded[1], on_line, s);
             double t = std::numeric_limits<double>::infinity();
-            auto bound = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q, double kappa) {
-                const double slope = (q.x() - s) + kappa * (p.x() - s);
-                const double rest = q.x() * (q.x() - s) + q.y() * q.y() + kappa * (p.x() * (p.x() - s) + p.y() * p.y());
-                if (slope > 0) t = std::min(t, rest / slope);
-            };
-            if (sides == 1) {
-                if (strict)
-                    for (const Eigen::Vector2d& p : unfolded[0]) bound(p, p, 0);
-            } else {
-                for (const Eigen::Vector2d& p : unfolded[0])
-                    if (p.y() > 0)
-                        for (const Eigen::Vector2d& q : unfolded[1]) bound(p, q, q.y() / p.y());
-            }
+            if (strict)
+                for (const UnfoldedPoint& p : unfolded[0]) t = std::min(t, pair_reach(p, p, 0, s));
             return t;
         };
         const size_t has = on_edge[e].size();
