@@ -71,8 +71,8 @@ TEST(PieceReach, OnAStrictBoundaryIsWhereAPointSeesARightAngle) {
     EXPECT_EQ(pair_reach(p, p, 0, 0.8), kInfinity);  // p behind s never sees a right angle
 }
 
-// Points at every scale of height down to 1e-19 (the rounding of a corner on the edge's line),
-// on the line itself, beyond both ends and in near-ties: the fast search must give bit for bit
+// Points at every scale of height down to 1e-19 (the rounding of a corner on the edge's line)
+// and below where 1 / y overflows, on the line itself, beyond both ends and in near-ties: the fast search must give bit for bit
 // what every pair gives, as the conversion's output depends on it.
 TEST(PieceReach, EqualsTheLeastOverEveryPairBitForBit) {
     std::mt19937 generator(11);
@@ -85,6 +85,7 @@ TEST(PieceReach, EqualsTheLeastOverEveryPairBitForBit) {
                 case 0: return at(1.0, 1e-18 * unit(generator));  // the edge's far end, rounded
                 case 1: return at(0.0, 1e-19 * unit(generator));  // its near end
                 case 2: return at(std::round(x * 8) / 8, y);      // shared abscissas: near-ties
+                case 3: return at(x, 1e-300 * std::pow(1e-10, unit(generator)));  // 1 / y overflows
                 default: return at(x, y);
             }
         };

@@ -259,7 +259,7 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
                 const double x = (p - A).dot(along), y = (p - A).cross(along).norm();
                 if (y > 0 || sides == 1)
                     unfolded[side].push_back({x, y, 1 / y});
-                else if (side == 1)
+                else if (side == 1 && y == 0)  // (a NaN bounds nothing)
                     on_line.push_back(x);
             }
         }

@@ -31,9 +31,11 @@ double PieceReach::operator()(std::span<const UnfoldedPoint> above, std::span<co
             // t is rounded, and the cotangent moves by |u.x - s| / u.y per unit of it: that
             // term dominates the bound.
             const double from_s = u.x - s;
-            out.push_back(t == infinity ? (-from_s - rounding * std::abs(from_s)) * u.inverse_y
-                                        : (from_s * (u.x - t) - rounding * std::abs(from_s) * (std::abs(u.x) + t)) * u.inverse_y +
-                                              u.y * (1 - rounding));
+            const double along = t == infinity ? -from_s - rounding * std::abs(from_s)
+                                               : from_s * (u.x - t) - rounding * std::abs(from_s) * (std::abs(u.x) + t);
+            // Below a height of 1 / DBL_MAX the inverse overflows where the quotient may not.
+            const double over_height = std::isinf(u.inverse_y) ? along / u.y : along * u.inverse_y;
+            out.push_back(t == infinity ? over_height : over_height + u.y * (1 - rounding));
             numbers = numbers && !std::isnan(out.back());
             if (out.back() < out[smallest]) smallest = out.size() - 1;
         }
@@ -51,10 +53,11 @@ double PieceReach::operator()(std::span<const UnfoldedPoint> above, std::span<co
     }
     constexpr double rounding = 1e-10;
     if (t > s && cotangents_at_t(0, rounding, i) && cotangents_at_t(1, rounding, j)) {
+        // A NaN sum (∞ - ∞: a point off the line by less than 1 / DBL_MAX) is paired too.
         for (size_t p = 0; p < above.size(); ++p)
-            if (cotangents_[0][p] + cotangents_[1][j] < 0)
+            if (!(cotangents_[0][p] + cotangents_[1][j] >= 0))
                 for (size_t q = 0; q < below.size(); ++q)
-                    if (cotangents_[0][p] + cotangents_[1][q] < 0) pair(above[p], below[q]);
+                    if (!(cotangents_[0][p] + cotangents_[1][q] >= 0)) pair(above[p], below[q]);
     } else {  // rounding beyond the bounds: every pair
         for (const UnfoldedPoint& p : above)
             for (const UnfoldedPoint& q : below) pair(p, q);
