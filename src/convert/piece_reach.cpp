@@ -53,7 +53,8 @@ double PieceReach::operator()(std::span<const UnfoldedPoint> above, std::span<co
     }
     constexpr double rounding = 1e-10;
     if (t > s && cotangents_at_t(0, rounding, i) && cotangents_at_t(1, rounding, j)) {
-        // A NaN sum (∞ - ∞: a point off the line by less than 1 / DBL_MAX) is paired too.
+        // A NaN sum (∞ - ∞: two points so near the line that their cotangents overflow) is
+        // paired too.
         for (size_t p = 0; p < above.size(); ++p)
             if (!(cotangents_[0][p] + cotangents_[1][j] >= 0))
                 for (size_t q = 0; q < below.size(); ++q)
