@@ -72,8 +72,9 @@ TEST(PieceReach, OnAStrictBoundaryIsWhereAPointSeesARightAngle) {
 }
 
 // Points at every scale of height down to 1e-19 (the rounding of a corner on the edge's line)
-// and below where 1 / y overflows, on the line itself, beyond both ends and in near-ties: the fast search must give bit for bit
-// what every pair gives, as the conversion's output depends on it.
+// and below where 1 / y overflows, on the line itself, beyond both ends and in near-ties: the
+// fast search must give bit for bit what every pair gives, as the conversion's output depends
+// on it.
 TEST(PieceReach, EqualsTheLeastOverEveryPairBitForBit) {
     std::mt19937 generator(11);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
