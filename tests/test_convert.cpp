@@ -594,13 +594,17 @@ TEST(ConvertMethods, InputVerticesStayBitForBitBesideHugeOnes) {
     }
 }
 
-// No split point of the output can go alone: for each, the piece joining its two neighbours on
-// its input edge would see a point of the input faces on its sides under angles summing to more
-// than π (a strict boundary piece: more than π/2). On these meshes no two faces are coplanar, so
-// a piece's apex in its face's Delaunay triangulation is the point that sees it widest.
-TEST(ConvertMethods, NoSplitPointCanGoAlone) {
-    // Points are removed on the first two (407 and 594 of 3,330 and 4,552 splits); on the bunny
-    // none has been since the split points avoid cascades, and the check still holds there.
+// No split point of the output can go, alone or with a chain (remove_unneeded_points): removing
+// x joins the pieces beside it on its input edge; while a joined piece would see points of the
+// input faces on its sides under angles summing to more than π (a strict boundary piece: more
+// than π/2), the split point that sees it widest goes too, unless the input vertices alone break
+// it. On these meshes no two faces are coplanar, so a piece's apex in its face's Delaunay
+// triangulation is the point that sees it widest.
+TEST(ConvertMethods, NoSplitPointCanGoAloneOrWithAChain) {
+    constexpr size_t kMostInAChain = 64;  // the converter's kChainPoints
+    // Points are removed on the first two (5,342 and 7,783 of 7,204 and 11,229 splits, with those
+    // that the fewest-points pass places again); on the bunny one, and the check holds there too.
+    // Without chains, the skewed grid had points that could go with one more.
     for (const char* name : {"skewed_grid", "small_angles", "bunny", "skewed_grid/local_search"}) {
         const std::string_view case_name(name);
         const TriangleMesh input = adversarial(std::string(case_name.substr(0, case_name.find('/'))));
@@ -611,41 +615,90 @@ TEST(ConvertMethods, NoSplitPointCanGoAlone) {
             EXPECT_GT(r.removed_points, 0) << name;
         }
         const EdgeTable edges = build_edge_table(input.F, input.num_vertices());
+        const int inputs = input.num_vertices(), vertices = result.mesh.num_vertices();
         auto point = [&](int v) -> Eigen::Vector3d { return result.mesh.V.row(v); };
-        // The points on each input edge, ordered along it, ends included.
+        // The points on each input edge, ordered along it, ends included; each split point's place.
         std::vector<std::vector<std::pair<double, int>>> along(edges.num_edges());
         for (int e = 0; e < edges.num_edges(); ++e)
             along[e] = {{0.0, edges.E(e, 0)}, {1.0, edges.E(e, 1)}};
-        for (int v = input.num_vertices(); v < result.mesh.num_vertices(); ++v) {
+        std::vector<int> edge_of(vertices, -1);
+        for (int v = inputs; v < vertices; ++v) {
             const NearestEdge on = nearest_edge(input, edges, point(v));
             along[on.edge].emplace_back(on.t, v);
+            edge_of[v] = on.edge;
         }
         for (auto& points : along) std::sort(points.begin(), points.end());
-        // Cotangent of the widest angle under which a point of face f off edge e sees p-q.
-        auto apex_cotangent = [&](int f, int e, int p, int q) {
-            double smallest = std::numeric_limits<double>::infinity();
+        std::vector<char> in_chain(vertices, 0);
+        // Of the points of face f off edge e, other than p and q, as cotangents of the angles
+        // under which they see p-q: the widest input vertex, and the split points wider than it.
+        auto apexes = [&](int f, int e, int p, int q, std::vector<std::pair<double, int>>& going) {
+            double vertex = std::numeric_limits<double>::infinity();
+            going.clear();
             for (int k = 0; k < 3; ++k) {
-                const int other = edges.face_edge(f, k);
-                if (other == e) continue;
-                for (const auto& [t, y] : along[other]) {
-                    if (y == p || y == q) continue;
-                    const Eigen::Vector3d a = point(p) - point(y), b = point(q) - point(y);
-                    smallest = std::min(smallest, a.dot(b) / a.cross(b).norm());
+                if (const int other = edges.face_edge(f, k); other != e)
+                    for (const auto& [t, y] : along[other]) {
+                        if (y == p || y == q || in_chain[y]) continue;
+                        const Eigen::Vector3d a = point(p) - point(y), b = point(q) - point(y);
+                        const double cotangent = a.dot(b) / a.cross(b).norm();
+                        if (y < inputs)
+                            vertex = std::min(vertex, cotangent);
+                        else
+                            going.emplace_back(cotangent, y);
+                    }
+            }
+            std::erase_if(going, [&](const auto& apex) { return !(apex.first < vertex); });
+            std::sort(going.begin(), going.end());
+            return vertex;
+        };
+        // Whether x can go with the chain it gathers.
+        std::vector<int> chain;
+        std::vector<std::pair<double, int>> going[2];
+        auto can_go = [&](int x) {
+            chain.assign(1, x);
+            in_chain[x] = 1;
+            bool goes = true;
+            for (size_t i = 0; i < chain.size() && goes; ++i) {
+                const int e = edge_of[chain[i]];
+                const auto& points = along[e];
+                size_t lo = 0;
+                while (points[lo].second != chain[i]) ++lo;
+                size_t hi = lo;
+                while (in_chain[points[lo].second]) --lo;
+                while (in_chain[points[hi].second]) ++hi;
+                const int p = points[lo].second, q = points[hi].second;
+                const int f = edges.edge_halfedges(e, 0) / 3, g = edges.edge_halfedges(e, 1);
+                double vertex[2] = {apexes(f, e, p, q, going[0]), 0.0};
+                if (g >= 0) {
+                    vertex[1] = apexes(g / 3, e, p, q, going[1]);
+                } else {
+                    going[1].clear();
+                }
+                goes = vertex[0] + vertex[1] >= 0;
+                for (size_t next[2] = {0, 0}; goes;) {
+                    double widest[2];
+                    for (int side = 0; side < 2; ++side)
+                        widest[side] = next[side] < going[side].size() ? going[side][next[side]].first : vertex[side];
+                    if (widest[0] + widest[1] >= 0) break;
+                    const bool first = next[1] == going[1].size() ||
+                                       (next[0] < going[0].size() && going[0][next[0]].first <= going[1][next[1]].first);
+                    const int y = going[first ? 0 : 1][next[first ? 0 : 1]++].second;
+                    if (in_chain[y]) continue;
+                    goes = chain.size() < kMostInAChain;
+                    in_chain[y] = 1;
+                    chain.push_back(y);
                 }
             }
-            return smallest;
+            for (const int y : chain) in_chain[y] = 0;
+            return goes;
         };
-        int checked = 0;
-        for (int e = 0; e < edges.num_edges(); ++e)
-            for (size_t i = 1; i + 1 < along[e].size(); ++i) {
-                const int p = along[e][i - 1].second, q = along[e][i + 1].second;
-                const int f = edges.edge_halfedges(e, 0) / 3, g = edges.edge_halfedges(e, 1);
-                const double margin =
-                    g < 0 ? apex_cotangent(f, e, p, q) : apex_cotangent(f, e, p, q) + apex_cotangent(g / 3, e, p, q);
-                EXPECT_LT(margin, 0) << name << ": point " << along[e][i].second << " could go";
-                ++checked;
-            }
-        EXPECT_EQ(checked, result.mesh.num_vertices() - input.num_vertices()) << name;
+        size_t longest = 0;
+        for (int x = inputs; x < vertices; ++x) {
+            EXPECT_FALSE(can_go(x)) << name << ": point " << x << " could go with " << chain.size() - 1 << " more";
+            longest = std::max(longest, chain.size());
+        }
+        if (case_name != "bunny") {
+            EXPECT_GT(longest, 1u) << name << ": no chain was tried";
+        }
     }
 }
 
@@ -710,7 +763,8 @@ TEST(ConvertMethods, AStripOfLongFacesTakesOneRingOfPoints) {
 // split point on one long edge of a facet sees the facet's far long edge from across the plane;
 // there, at its foot, the next point makes a right angle with it, and the points go around
 // the strip at one x. Placed by the interval rule alone, they took 13 vertices for the 2
-// non-Delaunay edges (strict boundary: 40 for 4); the bound is 2 (7).
+// non-Delaunay edges (strict boundary: 40 for 4); the bound is 2 (7). Under the free policy, two
+// points of that ring then go with a chain of removals, and 5 points are left (7 before).
 TEST(ConvertMethods, APointAcrossAPlaneTakesItsFootOnTheFarSide) {
     const TriangleMesh corner = make_mesh(
         {{0.007303, -0.007303, 0.0340280011},         {0.006726, -0.006726, 0.035108},
@@ -729,13 +783,14 @@ TEST(ConvertMethods, APointAcrossAPlaneTakesItsFootOnTheFarSide) {
         BoundaryPolicy boundary;
         int non_delaunay, most;
     };
-    for (const Policy& c : {Policy{"free", BoundaryPolicy::free, 2, 7}, Policy{"strict", BoundaryPolicy::strict, 4, 21}}) {
+    for (const Policy& c : {Policy{"free", BoundaryPolicy::free, 2, 5}, Policy{"strict", BoundaryPolicy::strict, 4, 21}}) {
         const ConversionResult result = convert(corner, {.boundary = c.boundary, .lower_bound = true});
         const ConversionReport& r = result.report;
         ASSERT_EQ(r.status, ConvertStatus::certified) << c.name;
         EXPECT_EQ(r.input_nonflat_non_delaunay_edges, c.non_delaunay) << c.name;
         EXPECT_LE(r.output_vertices - r.input_vertices, c.most) << c.name;
         EXPECT_GE(r.output_vertices - r.input_vertices, r.added_vertices_lower_bound) << c.name;
+        if (c.boundary == BoundaryPolicy::free) continue;
         // Three points, one on each of three long edges, at one x.
         int largest_ring = 0;
         for (int v = corner.num_vertices(); v < result.mesh.num_vertices(); ++v) {

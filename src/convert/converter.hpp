@@ -77,6 +77,9 @@ constexpr long long kTrialWork = 8;
 // Local search places again at most this many split points at once: more (dense fans of
 // needles) cost time that grows with them and rarely pay (16, 32 and unlimited measured alike).
 constexpr size_t kLocalSearchPoints = 16;
+// Point removal lets at most this many points go together (see remove_unneeded_points), and
+// stops a chain once it has tested this many apexes.
+constexpr size_t kChainPoints = 64, kChainTests = size_t{1} << 14;
 // relocate_points gives up on a point after this many moves, trying this many points for each
 // at this many positions each. Measured with --local-search 1 (vertices added on elk / mushroom
 // / boot, seconds on boot): 24 moves of 6 × 8: 1,255 / 1,263 / 15,951, 4.8 s; 40 of 3 × 8:
@@ -333,10 +336,13 @@ private:
     // non-flat input edge may go when the piece p-q would be locally Delaunay against every
     // point of the planes on its two sides (the apex of a piece in a plane's Delaunay
     // triangulation is one of them); removing a point only shrinks the angles that the other
-    // pieces see, so they stay locally Delaunay. x's spokes are flipped away until one is left
-    // on each side, the split is undone, and Lawson flips restore the planes' triangulations;
-    // anything they left non-Delaunay would be split again by the same loop. With `changed`
-    // (by input edge), only the points of the planes next to changed edges are tried first.
+    // pieces see, so they stay locally Delaunay. Where p-q is broken only by split points, they
+    // may go with x, if the pieces they leave are locally Delaunay in turn (a chain, up to
+    // kChainPoints): a ring of points round a wall of thin strips goes only whole. Each point's
+    // spokes are flipped away until one is left on each side, the split is undone, and Lawson
+    // flips restore the planes' triangulations; anything they left non-Delaunay would be split
+    // again by the same loop. With `changed` (by input edge), only the points of the planes next
+    // to changed edges are tried first.
     void remove_unneeded_points(ConversionReport& report, const std::vector<char>* changed = nullptr);
 
     // Each input edge with two or more split points gets the fewest that suffice with the

@@ -45,36 +45,127 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         }
     }
     auto is_too_big = [&](int f) { return f >= 0 && any_flat && plane_too_big[plane_of[f]]; };
-    // cotangent_seen_from, by vertex ids.
-    auto cotangent = [&](int y, int p, int q) { return cotangent_seen_from(P_[y], P_[p], P_[q]); };
-    // Cotangent of the widest angle under which a point of the plane of face f, off edge e,
-    // sees p-q.
-    auto apex_cotangent = [&](int f, int p, int q, int e) {
-        double smallest = std::numeric_limits<double>::infinity();
+    // The points of the chain being gathered, by split point (grown as the drain adds points).
+    std::vector<char> in_chain;
+    auto is_gone = [&](int y) {
+        return y >= input_vertices_ && (removed_[y - input_vertices_] || in_chain[y - input_vertices_]);
+    };
+    // A point that may go with the chain: a split point on a fold (one on a flat edge, inside a
+    // plane, stays like the input vertices).
+    auto may_go = [&](int y) {
+        if (y < input_vertices_) return false;
+        const int edge = vertex_input_edge_[y - input_vertices_];
+        return edge >= 0 && !input_flat_[edge];
+    };
+    // The apexes of p-q in the plane of face f, off edge e, as cotangents: the widest of the
+    // points that stay, and the points that may go and see it wider, widest first.
+    struct Apexes {
+        double staying = std::numeric_limits<double>::infinity();
+        std::vector<std::pair<double, int>> going;
+    };
+    Apexes sides[2];
+    size_t apex_tests = 0;
+    auto find_apexes = [&](int f, int p, int q, int e, Apexes& found) {
+        found.staying = std::numeric_limits<double>::infinity();
+        found.going.clear();
         for_each_point_in_plane_of(f, [&](int y, int edge) {
-            if (edge == e || y == p || y == q || (y >= input_vertices_ && removed_[y - input_vertices_])) return;
-            smallest = std::min(smallest, cotangent(y, p, q));
+            if (edge == e || y == p || y == q || is_gone(y)) return;
+            ++apex_tests;
+            const double c = cotangent_seen_from(P_[y], P_[p], P_[q]);
+            if (!may_go(y))
+                found.staying = std::min(found.staying, c);
+            else if (c < found.staying)
+                found.going.emplace_back(c, y);
         });
-        return smallest;
+        std::erase_if(found.going, [&](const auto& apex) { return !(apex.first < found.staying); });
+        std::sort(found.going.begin(), found.going.end());
     };
-    // Cotangent of the widest angle under which x's neighbours from its piece `into` round to
-    // `last` see p-q (none where no face of x is on that side: a boundary line).
-    auto fan_cotangent = [&](int into, int x, int last, int p, int q) -> std::optional<double> {
-        const int h = side_into(into, x);
-        if (h < 0) return std::nullopt;
-        double smallest = std::numeric_limits<double>::infinity();
-        for (int out = HalfedgeMesh::next(h); mesh_.head(out) != last; out = HalfedgeMesh::next(mesh_.twin(out)))
-            smallest = std::min(smallest, cotangent(mesh_.head(out), p, q));
-        return smallest;
+    // The end of x's piece `piece` beyond the points of the chain.
+    auto beyond_chain = [&](int x, int piece) {
+        for (int z = other_end(piece, x);; z = other_end(piece, x)) {
+            if (z < input_vertices_ || !in_chain[z - input_vertices_]) return z;
+            const auto [one, other] = pieces_[z - input_vertices_];
+            piece = one == piece ? other : one;
+            x = z;
+        }
     };
-    // The Delaunay margin cot α + cot β of p-q from the apex cotangents of its two sides; on a
-    // boundary line the one side's under the strict policy, none under the free one.
-    auto sides_margin = [&](std::optional<double> one, std::optional<double> other) {
-        if (one && other) return *one + *other;
-        return options_.boundary == BoundaryPolicy::strict ? one.value_or(other.value_or(0.0)) : 0.0;
+    const bool strict = options_.boundary == BoundaryPolicy::strict;
+    // Whether the neighbours of x that stay break p-q, x's neighbours on its edge (its pieces
+    // to_p and to_q): then no chain mends it. Most points are settled so, before the planes are
+    // scanned. Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary.
+    auto staying_neighbours_break = [&](int x, int to_p, int to_q, int p, int q) {
+        auto widest = [&](int into, int last) -> std::optional<double> {
+            const int h = side_into(into, x);
+            if (h < 0) return std::nullopt;  // a boundary line
+            double smallest = std::numeric_limits<double>::infinity();
+            for (int out = HalfedgeMesh::next(h); mesh_.head(out) != last; out = HalfedgeMesh::next(mesh_.twin(out)))
+                if (const int y = mesh_.head(out); !may_go(y))
+                    smallest = std::min(smallest, cotangent_seen_from(P_[y], P_[p], P_[q]));
+            return smallest;
+        };
+        const std::optional<double> one = widest(to_p, q), other = widest(to_q, p);
+        if (one && other) return *one + *other < 0;
+        return strict && one.value_or(other.value_or(0.0)) < 0;
     };
-    // Every split point is tried; a removal makes the points of its two planes worth trying
-    // again, so that at the end no point can go alone.
+    // Gathers into `chain` the points that must go with x: while the piece that a point of the
+    // chain leaves (joined with the chain's points beside it on its edge) is not locally
+    // Delaunay, the widest of its apexes that may go joins the chain. False if an apex that
+    // stays breaks such a piece, or the chain grows past kChainPoints.
+    std::vector<int> chain;
+    auto gather_chain = [&](int x) {
+        in_chain.resize(P_.size() - input_vertices_, 0);
+        chain.assign(1, x);
+        in_chain[x - input_vertices_] = 1;
+        apex_tests = 0;
+        bool goes = true;
+        for (size_t i = 0; i < chain.size() && goes; ++i) {
+            const int y = chain[i], e = vertex_input_edge_[y - input_vertices_];
+            const auto [f, g] = faces_of(e);
+            if (is_too_big(f) || is_too_big(g)) {
+                goes = false;
+                break;
+            }
+            const auto [to_p, to_q] = pieces_[y - input_vertices_];
+            const int p = beyond_chain(y, to_p), q = beyond_chain(y, to_q);
+            if (p == other_end(to_p, y) && q == other_end(to_q, y) && staying_neighbours_break(y, to_p, to_q, p, q)) {
+                goes = false;
+                break;
+            }
+            if (g < 0 && !strict) continue;  // a free boundary line
+            find_apexes(f, p, q, e, sides[0]);
+            if (g >= 0)
+                find_apexes(g, p, q, e, sides[1]);
+            else
+                sides[1] = {0.0, {}};  // a strict boundary line: cot α >= 0
+            // Locally Delaunay: cot α + cot β >= 0. The apexes that stay decide if they break
+            // p-q; else those that may go join the chain, the widest first, until they do not.
+            if (!(sides[0].staying + sides[1].staying >= 0)) {
+                goes = false;
+                break;
+            }
+            for (size_t next[2] = {0, 0};;) {
+                auto going = [&](int side) { return next[side] < sides[side].going.size(); };
+                auto widest = [&](int side) {
+                    return going(side) ? sides[side].going[next[side]].first : sides[side].staying;
+                };
+                if (widest(0) + widest(1) >= 0) break;
+                // The staying ones sum to >= 0, so one side's widest may go.
+                const int side = !going(1) || (going(0) && widest(0) <= widest(1)) ? 0 : 1;
+                const int z = sides[side].going[next[side]++].second;
+                if (in_chain[z - input_vertices_]) continue;  // a point of both planes
+                if (chain.size() >= kChainPoints || apex_tests >= kChainTests) {
+                    goes = false;
+                    break;
+                }
+                in_chain[z - input_vertices_] = 1;
+                chain.push_back(z);
+            }
+        }
+        for (const int y : chain) in_chain[y - input_vertices_] = 0;
+        return goes;
+    };
+    // Every split point is tried; a removal makes the points of the planes around it worth
+    // trying again, so that at the end no point can go, alone or with a chain.
     std::deque<int> to_try;
     std::vector<char> waiting(static_cast<size_t>(split_points - input_vertices_), 0);
     auto try_later = [&](int x, int) {
@@ -94,23 +185,12 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         const int x = to_try.front();
         to_try.pop_front();
         waiting[x - input_vertices_] = 0;
-        const int e = vertex_input_edge_[x - input_vertices_];
-        if (e < 0 || input_flat_[e] || removed_[x - input_vertices_]) continue;
-        const auto [f, g] = faces_of(e);
-        if (is_too_big(f) || is_too_big(g)) continue;
-        const auto [to_p, to_q] = pieces_[x - input_vertices_];
-        const int p = other_end(to_p, x), q = other_end(to_q, x);
-        // Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary. x's
-        // neighbours settle most points before the planes are scanned: on a side, the one that
-        // sees p-q widest is usually the apex p-q would get, and where they break p-q, x stays.
-        const double neighbours = sides_margin(fan_cotangent(to_p, x, q, p, q), fan_cotangent(to_q, x, p, p, q));
-        if (!(neighbours >= 0)) continue;
-        const double margin = sides_margin(apex_cotangent(f, p, q, e), g >= 0 ? std::optional(apex_cotangent(g, p, q, e)) : std::nullopt);
-        if (!(margin >= 0)) continue;
-        if (undo_split(x, report) >= 0) {
+        if (removed_[x - input_vertices_] || !may_go(x) || !gather_chain(x)) continue;
+        for (const int y : chain) {
+            if (undo_split(y, report) < 0) break;  // what the rest left non-Delaunay is split again
             ++report.removed_points;
-            for_each_point_in_plane_of(f, try_later);
-            if (g >= 0) for_each_point_in_plane_of(g, try_later);
+            for (const int f : faces_of(vertex_input_edge_[y - input_vertices_]))
+                if (f >= 0) for_each_point_in_plane_of(f, try_later);
         }
         drain(report);
     }
