@@ -679,9 +679,9 @@ TEST(ConvertMethods, NoSplitPointCanGoAloneOrWithAChain) {
                     for (int side = 0; side < 2; ++side)
                         widest[side] = next[side] < going[side].size() ? going[side][next[side]].first : vertex[side];
                     if (widest[0] + widest[1] >= 0) break;
-                    const bool first = next[1] == going[1].size() ||
-                                       (next[0] < going[0].size() && going[0][next[0]].first <= going[1][next[1]].first);
-                    const int y = going[first ? 0 : 1][next[first ? 0 : 1]++].second;
+                    const bool more[2] = {next[0] < going[0].size(), next[1] < going[1].size()};
+                    const int side = !more[1] || (more[0] && widest[0] <= widest[1]) ? 0 : 1;
+                    const int y = going[side][next[side]++].second;
                     if (in_chain[y]) continue;
                     goes = chain.size() < kMostInAChain;
                     in_chain[y] = 1;

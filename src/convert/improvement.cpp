@@ -57,28 +57,45 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         const int edge = vertex_input_edge_[y - input_vertices_];
         return edge >= 0 && !input_flat_[edge];
     };
-    // The apexes of p-q in the plane of face f, off edge e, as cotangents: the widest of the
-    // points that stay, and the points that may go and see it wider, widest first.
+    // The apexes of a piece p-q on one side, as cotangents of the angles under which they see
+    // it: the widest of the points that stay, and the points that may go and see it wider,
+    // widest first.
     struct Apexes {
         double staying = std::numeric_limits<double>::infinity();
         std::vector<std::pair<double, int>> going;
+        void add(double cotangent, int y, bool stays) {
+            if (stays)
+                staying = std::min(staying, cotangent);
+            else if (cotangent < staying)
+                going.emplace_back(cotangent, y);
+        }
+        void sort() {
+            std::erase_if(going, [&](const auto& apex) { return !(apex.first < staying); });
+            std::sort(going.begin(), going.end());
+        }
     };
-    Apexes sides[2];
     size_t apex_tests = 0;
-    auto find_apexes = [&](int f, int p, int q, int e, Apexes& found) {
-        found.staying = std::numeric_limits<double>::infinity();
-        found.going.clear();
+    // Those of the points of the plane of face f, off edge e.
+    auto plane_apexes = [&](int f, int p, int q, int e, Apexes& found) {
+        found = {};
         for_each_point_in_plane_of(f, [&](int y, int edge) {
             if (edge == e || y == p || y == q || is_gone(y)) return;
             ++apex_tests;
-            const double c = cotangent_seen_from(P_[y], P_[p], P_[q]);
-            if (!may_go(y))
-                found.staying = std::min(found.staying, c);
-            else if (c < found.staying)
-                found.going.emplace_back(c, y);
+            found.add(cotangent_seen_from(P_[y], P_[p], P_[q]), y, !may_go(y));
         });
-        std::erase_if(found.going, [&](const auto& apex) { return !(apex.first < found.staying); });
-        std::sort(found.going.begin(), found.going.end());
+        found.sort();
+    };
+    // Those of x's neighbours from its piece `into` round to `last`; false where x has no face on
+    // that side (a boundary line).
+    auto neighbour_apexes = [&](int x, int into, int last, int p, int q, Apexes& found) {
+        found = {};
+        const int h = side_into(into, x);
+        if (h < 0) return false;
+        for (int out = HalfedgeMesh::next(h); mesh_.head(out) != last; out = HalfedgeMesh::next(mesh_.twin(out)))
+            if (const int y = mesh_.head(out); y != p && y != q && !is_gone(y))
+                found.add(cotangent_seen_from(P_[y], P_[p], P_[q]), y, !may_go(y));
+        found.sort();
+        return true;
     };
     // The end of x's piece `piece` beyond the points of the chain.
     auto beyond_chain = [&](int x, int piece) {
@@ -90,59 +107,40 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         }
     };
     const bool strict = options_.boundary == BoundaryPolicy::strict;
-    // Whether the neighbours of x that stay break p-q, x's neighbours on its edge (its pieces
-    // to_p and to_q): then no chain mends it. Most points are settled so, before the planes are
-    // scanned. Locally Delaunay: cot α + cot β >= 0 inside, cot α >= 0 on a strict boundary.
-    auto staying_neighbours_break = [&](int x, int to_p, int to_q, int p, int q) {
-        auto widest = [&](int into, int last) -> std::optional<double> {
-            const int h = side_into(into, x);
-            if (h < 0) return std::nullopt;  // a boundary line
-            double smallest = std::numeric_limits<double>::infinity();
-            for (int out = HalfedgeMesh::next(h); mesh_.head(out) != last; out = HalfedgeMesh::next(mesh_.twin(out)))
-                if (const int y = mesh_.head(out); !may_go(y))
-                    smallest = std::min(smallest, cotangent_seen_from(P_[y], P_[p], P_[q]));
-            return smallest;
-        };
-        const std::optional<double> one = widest(to_p, q), other = widest(to_q, p);
-        if (one && other) return *one + *other < 0;
-        return strict && one.value_or(other.value_or(0.0)) < 0;
-    };
-    // Gathers into `chain` the points that must go with x: while the piece that a point of the
-    // chain leaves (joined with the chain's points beside it on its edge) is not locally
-    // Delaunay, the widest of its apexes that may go joins the chain. False if an apex that
-    // stays breaks such a piece, or the chain grows past kChainPoints.
+    // What is left of the pass's budget of apex tests for chains (see kChainWork).
+    size_t chain_work = kChainWork * static_cast<size_t>(split_points - input_vertices_);
+    // The points that must go with x gather in `chain`: while the piece that a point of the
+    // chain leaves (joined across the chain's points beside it on its edge) is not locally
+    // Delaunay, its widest apex that may go joins the chain. The chain fails if apexes that stay
+    // break such a piece, or it grows past kChainPoints, kChainTests or the budget. It grows
+    // first from the neighbours of its points, which cost little to read and settle most
+    // points, then from the planes on their sides, where every apex of the pieces left lies.
     std::vector<int> chain;
-    auto gather_chain = [&](int x) {
-        in_chain.resize(P_.size() - input_vertices_, 0);
-        chain.assign(1, x);
-        in_chain[x - input_vertices_] = 1;
-        apex_tests = 0;
-        bool goes = true;
-        for (size_t i = 0; i < chain.size() && goes; ++i) {
+    Apexes sides[2];
+    auto grow_chain = [&](bool whole_planes) {
+        for (size_t i = 0; i < chain.size(); ++i) {
             const int y = chain[i], e = vertex_input_edge_[y - input_vertices_];
             const auto [f, g] = faces_of(e);
-            if (is_too_big(f) || is_too_big(g)) {
-                goes = false;
-                break;
-            }
+            if (is_too_big(f) || is_too_big(g)) return false;
             const auto [to_p, to_q] = pieces_[y - input_vertices_];
             const int p = beyond_chain(y, to_p), q = beyond_chain(y, to_q);
-            if (p == other_end(to_p, y) && q == other_end(to_q, y) && staying_neighbours_break(y, to_p, to_q, p, q)) {
-                goes = false;
-                break;
+            bool two_sides = g >= 0;
+            if (whole_planes) {
+                plane_apexes(f, p, q, e, sides[0]);
+                if (two_sides) plane_apexes(g, p, q, e, sides[1]);
+            } else {
+                const int next_p = other_end(to_p, y), next_q = other_end(to_q, y);
+                const bool one = neighbour_apexes(y, to_p, next_q, p, q, sides[0]);
+                const bool other = neighbour_apexes(y, to_q, next_p, p, q, sides[1]);
+                if (!one) std::swap(sides[0], sides[1]);
+                two_sides = one && other;
             }
-            if (g < 0 && !strict) continue;  // a free boundary line
-            find_apexes(f, p, q, e, sides[0]);
-            if (g >= 0)
-                find_apexes(g, p, q, e, sides[1]);
-            else
-                sides[1] = {0.0, {}};  // a strict boundary line: cot α >= 0
-            // Locally Delaunay: cot α + cot β >= 0. The apexes that stay decide if they break
-            // p-q; else those that may go join the chain, the widest first, until they do not.
-            if (!(sides[0].staying + sides[1].staying >= 0)) {
-                goes = false;
-                break;
+            if (!two_sides) {
+                if (!strict) continue;  // a free boundary line
+                sides[1] = {0.0, {}};   // a strict one: cot α >= 0
             }
+            // Locally Delaunay: cot α + cot β >= 0.
+            if (!(sides[0].staying + sides[1].staying >= 0)) return false;
             for (size_t next[2] = {0, 0};;) {
                 auto going = [&](int side) { return next[side] < sides[side].going.size(); };
                 auto widest = [&](int side) {
@@ -153,14 +151,20 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
                 const int side = !going(1) || (going(0) && widest(0) <= widest(1)) ? 0 : 1;
                 const int z = sides[side].going[next[side]++].second;
                 if (in_chain[z - input_vertices_]) continue;  // a point of both planes
-                if (chain.size() >= kChainPoints || apex_tests >= kChainTests) {
-                    goes = false;
-                    break;
-                }
+                if (chain.size() >= kChainPoints || apex_tests >= std::min(kChainTests, chain_work)) return false;
                 in_chain[z - input_vertices_] = 1;
                 chain.push_back(z);
             }
         }
+        return true;
+    };
+    auto gather_chain = [&](int x) {
+        in_chain.resize(P_.size() - input_vertices_, 0);
+        chain.assign(1, x);
+        in_chain[x - input_vertices_] = 1;
+        apex_tests = 0;
+        const bool goes = grow_chain(false) && grow_chain(true);
+        chain_work -= std::min(chain_work, apex_tests);
         for (const int y : chain) in_chain[y - input_vertices_] = 0;
         return goes;
     };
