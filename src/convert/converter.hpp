@@ -340,12 +340,12 @@ private:
     // point of the planes on its two sides (the apex of a piece in a plane's Delaunay
     // triangulation is one of them); removing a point only shrinks the angles that the other
     // pieces see, so they stay locally Delaunay. Where p-q is broken only by split points, they
-    // may go with x, if the pieces they leave are locally Delaunay in turn (a chain, up to
-    // kChainPoints): a ring of points round a wall of thin strips goes only whole. Each point's
-    // spokes are flipped away until one is left on each side, the split is undone, and Lawson
-    // flips restore the planes' triangulations; anything they left non-Delaunay would be split
-    // again by the same loop. With `changed` (by input edge), only the points of the planes next
-    // to changed edges are tried first.
+    // may go with x, if the pieces they leave are locally Delaunay in turn (a chain, within
+    // kChainPoints, kChainTests and kChainWork): a ring of points round a wall of thin strips
+    // goes only whole. Each point's spokes are flipped away until one is left on each side, the
+    // split is undone, and Lawson flips restore the planes' triangulations; anything they left
+    // non-Delaunay would be split again by the same loop. With `changed` (by input edge), only
+    // the points of the planes next to changed edges are tried first.
     void remove_unneeded_points(ConversionReport& report, const std::vector<char>* changed = nullptr);
 
     // Each input edge with two or more split points gets the fewest that suffice with the

@@ -58,17 +58,24 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         return edge >= 0 && !input_flat_[edge];
     };
     // The apexes of a piece p-q on one side, as cotangents of the angles under which they see
-    // it: the widest of the points that stay, and the points that may go and see it wider,
-    // widest first.
+    // it: the widest of the points that stay, and the points that may go and see it wider.
+    constexpr double kNone = std::numeric_limits<double>::infinity();  // no apex
     struct Apexes {
-        double staying = std::numeric_limits<double>::infinity();
-        std::vector<std::pair<double, int>> going;
+        double staying = kNone, widest_going = kNone;
+        std::vector<std::pair<double, int>> going;  // widest first after sort(), seldom needed
         void add(double cotangent, int y, bool stays) {
-            if (stays)
+            if (stays) {
                 staying = std::min(staying, cotangent);
-            else if (cotangent < staying)
+            } else if (cotangent < staying) {
                 going.emplace_back(cotangent, y);
+                widest_going = std::min(widest_going, cotangent);
+            }
         }
+        void clear() {
+            staying = widest_going = kNone;
+            going.clear();  // keeping its room: this runs for every try
+        }
+        double widest() const { return std::min(staying, widest_going); }
         void sort() {
             std::erase_if(going, [&](const auto& apex) { return !(apex.first < staying); });
             std::sort(going.begin(), going.end());
@@ -77,24 +84,24 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
     size_t apex_tests = 0;
     // Those of the points of the plane of face f, off edge e.
     auto plane_apexes = [&](int f, int p, int q, int e, Apexes& found) {
-        found = {};
+        found.clear();
         for_each_point_in_plane_of(f, [&](int y, int edge) {
             if (edge == e || y == p || y == q || is_gone(y)) return;
             ++apex_tests;
             found.add(cotangent_seen_from(P_[y], P_[p], P_[q]), y, !may_go(y));
         });
-        found.sort();
     };
     // Those of x's neighbours from its piece `into` round to `last`; false where x has no face on
     // that side (a boundary line).
     auto neighbour_apexes = [&](int x, int into, int last, int p, int q, Apexes& found) {
-        found = {};
+        found.clear();
         const int h = side_into(into, x);
         if (h < 0) return false;
         for (int out = HalfedgeMesh::next(h); mesh_.head(out) != last; out = HalfedgeMesh::next(mesh_.twin(out)))
-            if (const int y = mesh_.head(out); y != p && y != q && !is_gone(y))
+            if (const int y = mesh_.head(out); y != p && y != q && !is_gone(y)) {
+                ++apex_tests;
                 found.add(cotangent_seen_from(P_[y], P_[p], P_[q]), y, !may_go(y));
-        found.sort();
+            }
         return true;
     };
     // The end of x's piece `piece` beyond the points of the chain.
@@ -137,10 +144,13 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
             }
             if (!two_sides) {
                 if (!strict) continue;  // a free boundary line
-                sides[1] = {0.0, {}};   // a strict one: cot α >= 0
+                sides[1].clear();  // a strict one: cot α >= 0
+                sides[1].staying = 0;
             }
             // Locally Delaunay: cot α + cot β >= 0.
+            if (sides[0].widest() + sides[1].widest() >= 0) continue;
             if (!(sides[0].staying + sides[1].staying >= 0)) return false;
+            sides[0].sort(), sides[1].sort();
             for (size_t next[2] = {0, 0};;) {
                 auto going = [&](int side) { return next[side] < sides[side].going.size(); };
                 auto widest = [&](int side) {
