@@ -18,20 +18,73 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         if (!any_flat) return visit(f);
         for (const int face : plane_faces[plane_of[f]]) visit(face);
     };
-    // The split points on each input edge (removed ones are skipped when read).
+    // The split points on each input edge (removed ones are skipped when read), and those that
+    // drains add while removing.
     const int split_points = static_cast<int>(P_.size());
     const Buckets on_edge(edges, split_points - input_vertices_, [&](int i) { return vertex_input_edge_[i]; });
-    // Calls visit(y, input edge) for the points on the edges of the plane of face f.
-    auto for_each_point_in_plane_of = [&](int f, auto&& visit) {
-        for_each_face_in_plane_of(f, [&](int face) {
-            for (int k = 0; k < 3; ++k) {
-                const int edge = input_edges_.face_edge(face, k);
-                visit(input_.F(face, (k + 1) % 3), edge);
-                for (const int i : on_edge[edge]) visit(input_vertices_ + i, edge);
-                for (int y = split_points; y < static_cast<int>(P_.size()); ++y)  // added while removing
-                    if (vertex_input_edge_[y - input_vertices_] == edge) visit(y, edge);
+    std::unordered_map<int, std::vector<int>> added_on_edge;
+    // The points of each plane, packed so that a scan reads them in a row (the scans are most of
+    // the pass's time, mostly waiting for scattered positions), and sorted along the axis of the
+    // plane's longest extent so that a scan reads only those near its piece. Built when the plane
+    // is first read, each point once; the points that drains add go unsorted at the end.
+    struct PlanePoint {
+        Eigen::Vector3d position;
+        int y, edge;  // edge: the input edge of a split point, -1 for an input vertex
+    };
+    struct PackedPlane {
+        std::vector<PlanePoint> points;
+        size_t sorted = 0;
+        int axis = 0;
+    };
+    auto plane_id = [&](int f) { return any_flat ? plane_of[f] : f; };
+    std::vector<int> packed_index(static_cast<size_t>(input_faces), -1);  // by plane id
+    std::vector<PackedPlane> packed;
+    size_t packed_until = P_.size();
+    std::vector<int> corners, plane_edges;
+    auto packed_plane_of = [&](int f) -> const PackedPlane& {
+        for (; packed_until < P_.size(); ++packed_until) {
+            const int y = static_cast<int>(packed_until), edge = vertex_input_edge_[y - input_vertices_];
+            if (edge < 0) continue;
+            added_on_edge[edge].push_back(y);
+            const auto [one, other] = faces_of(edge);
+            for (const int face : {one, other})
+                if (face >= 0 && (face == one || plane_id(face) != plane_id(one)))
+                    if (const int index = packed_index[plane_id(face)]; index >= 0)
+                        packed[index].points.push_back({P_[y], y, edge});
+        }
+        int& index = packed_index[plane_id(f)];
+        if (index < 0) {
+            corners.clear(), plane_edges.clear();
+            for_each_face_in_plane_of(f, [&](int face) {
+                for (int k = 0; k < 3; ++k) {
+                    corners.push_back(input_.F(face, k));
+                    plane_edges.push_back(input_edges_.face_edge(face, k));
+                }
+            });
+            for (std::vector<int>* ids : {&corners, &plane_edges}) {
+                std::sort(ids->begin(), ids->end());
+                ids->erase(std::unique(ids->begin(), ids->end()), ids->end());
             }
-        });
+            index = static_cast<int>(packed.size());
+            PackedPlane& plane = packed.emplace_back();
+            std::vector<PlanePoint>& points = plane.points;
+            for (const int v : corners) points.push_back({P_[v], v, -1});
+            for (const int edge : plane_edges) {
+                for (const int i : on_edge[edge])
+                    if (!removed_[i]) points.push_back({P_[input_vertices_ + i], input_vertices_ + i, edge});
+                if (const auto added = added_on_edge.find(edge); added != added_on_edge.end())
+                    for (const int y : added->second)
+                        if (!removed_[y - input_vertices_]) points.push_back({P_[y], y, edge});
+            }
+            Eigen::AlignedBox3d box;
+            for (const PlanePoint& point : points) box.extend(point.position);
+            box.sizes().maxCoeff(&plane.axis);
+            std::sort(points.begin(), points.end(), [axis = plane.axis](const PlanePoint& one, const PlanePoint& other) {
+                return std::pair(one.position[axis], one.y) < std::pair(other.position[axis], other.y);
+            });
+            plane.sorted = points.size();
+        }
+        return packed[index];
     };
     // Points next to a plane of more than kMaxPlanePoints points stay: each try scans both
     // planes, and a removal retries their points (the corpus's largest plane has 1,269).
@@ -52,17 +105,16 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
     };
     // A point that may go with the chain: a split point on a fold (one on a flat edge, inside a
     // plane, stays like the input vertices).
-    auto may_go = [&](int y) {
-        if (y < input_vertices_) return false;
-        const int edge = vertex_input_edge_[y - input_vertices_];
-        return edge >= 0 && !input_flat_[edge];
-    };
+    auto goes_with_edge = [&](int edge) { return edge >= 0 && !input_flat_[edge]; };
+    auto may_go = [&](int y) { return y >= input_vertices_ && goes_with_edge(vertex_input_edge_[y - input_vertices_]); };
     // The apexes of a piece p-q on one side, as cotangents of the angles under which they see
     // it: the widest of the points that stay, and the points that may go and see it wider.
     constexpr double kNone = std::numeric_limits<double>::infinity();  // no apex
     struct Apexes {
         double staying = kNone, widest_going = kNone;
-        std::vector<std::pair<double, int>> going;  // widest first after sort(), seldom needed
+        // Those that may go and see the piece wider than `staying`: after heap(), a heap whose
+        // top is the widest (seldom needed: widest() settles most pieces).
+        std::vector<std::pair<double, int>> going;
         void add(double cotangent, int y, bool stays) {
             if (stays) {
                 staying = std::min(staying, cotangent);
@@ -76,20 +128,45 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
             going.clear();  // keeping its room: this runs for every try
         }
         double widest() const { return std::min(staying, widest_going); }
-        void sort() {
+        void heap() {
             std::erase_if(going, [&](const auto& apex) { return !(apex.first < staying); });
-            std::sort(going.begin(), going.end());
+            std::make_heap(going.begin(), going.end(), std::greater<>{});
+        }
+        double widest_left() const { return going.empty() ? staying : going.front().first; }
+        int pop_widest() {
+            std::pop_heap(going.begin(), going.end(), std::greater<>{});
+            const int y = going.back().second;
+            going.pop_back();
+            return y;
         }
     };
     size_t apex_tests = 0;
-    // Those of the points of the plane of face f, off edge e.
+    // Those of the points of the plane of face f, off edge e. Only points that see p-q wider
+    // than f's corner off e (which stays) count, and they lie inside the ball round the arcs
+    // through p and q of that angle: (|pq| / 2)(sqrt(1 + c²) + max(c, 0)) from pq's middle, c
+    // its cotangent. So of the plane's sorted points, only those that near along its axis are read.
     auto plane_apexes = [&](int f, int p, int q, int e, Apexes& found) {
         found.clear();
-        for_each_point_in_plane_of(f, [&](int y, int edge) {
-            if (edge == e || y == p || y == q || is_gone(y)) return;
+        const Eigen::Vector3d from = P_[p], to = P_[q];
+        auto test = [&](const PlanePoint& point) {
+            if (point.edge == e || point.y == p || point.y == q || is_gone(point.y)) return;
             ++apex_tests;
-            found.add(cotangent_seen_from(P_[y], P_[p], P_[q]), y, !may_go(y));
-        });
+            found.add(cotangent_seen_from(point.position, from, to), point.y, !goes_with_edge(point.edge));
+        };
+        int corner = 0;
+        while (input_edges_.face_edge(f, corner) != e) ++corner;
+        const double c = cotangent_seen_from(P_[input_.F(f, corner)], from, to);
+        const double reach = (to - from).norm() / 2 * (std::hypot(1.0, c) + std::max(c, 0.0)) * (1 + 1e-6);
+        const PackedPlane& plane = packed_plane_of(f);
+        auto near = plane.points.begin(), far = near + static_cast<std::ptrdiff_t>(plane.sorted);
+        std::for_each(far, plane.points.end(), test);  // added by drains
+        if (reach < kNone) {  // (else c is infinite or NaN: every point is read)
+            const int axis = plane.axis;
+            const double middle = (from[axis] + to[axis]) / 2;
+            near = std::partition_point(near, far, [&](const PlanePoint& y) { return y.position[axis] < middle - reach; });
+            far = std::partition_point(near, far, [&](const PlanePoint& y) { return y.position[axis] <= middle + reach; });
+        }
+        std::for_each(near, far, test);
     };
     // Those of x's neighbours from its piece `into` round to `last`; false where x has no face on
     // that side (a boundary line).
@@ -150,16 +227,12 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
             // Locally Delaunay: cot α + cot β >= 0.
             if (sides[0].widest() + sides[1].widest() >= 0) continue;
             if (!(sides[0].staying + sides[1].staying >= 0)) return false;
-            sides[0].sort(), sides[1].sort();
-            for (size_t next[2] = {0, 0};;) {
-                auto going = [&](int side) { return next[side] < sides[side].going.size(); };
-                auto widest = [&](int side) {
-                    return going(side) ? sides[side].going[next[side]].first : sides[side].staying;
-                };
-                if (widest(0) + widest(1) >= 0) break;
+            sides[0].heap(), sides[1].heap();
+            while (sides[0].widest_left() + sides[1].widest_left() < 0) {
                 // The staying ones sum to >= 0, so one side's widest may go.
-                const int side = !going(1) || (going(0) && widest(0) <= widest(1)) ? 0 : 1;
-                const int z = sides[side].going[next[side]++].second;
+                const bool first = sides[1].going.empty() ||
+                                   (!sides[0].going.empty() && sides[0].widest_left() <= sides[1].widest_left());
+                const int z = sides[first ? 0 : 1].pop_widest();
                 if (in_chain[z - input_vertices_]) continue;  // a point of both planes
                 if (chain.size() >= kChainPoints || apex_tests >= std::min(kChainTests, chain_work)) return false;
                 in_chain[z - input_vertices_] = 1;
@@ -182,19 +255,22 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
     // trying again, so that at the end no point can go, alone or with a chain.
     std::deque<int> to_try;
     std::vector<char> waiting(static_cast<size_t>(split_points - input_vertices_), 0);
-    auto try_later = [&](int x, int) {
+    auto try_later = [&](int x) {
         if (x < input_vertices_ || x >= split_points || waiting[x - input_vertices_] || removed_[x - input_vertices_])
             return;
         waiting[x - input_vertices_] = 1;
         to_try.push_back(x);
     };
+    auto try_points_of_plane = [&](int f) {
+        for (const PlanePoint& point : packed_plane_of(f).points) try_later(point.y);
+    };
     if (!changed)
-        for (int x = input_vertices_; x < split_points; ++x) try_later(x, -1);
+        for (int x = input_vertices_; x < split_points; ++x) try_later(x);
     else
         for (int e = 0; e < edges; ++e)
             if ((*changed)[e])
                 for (const int f : faces_of(e))
-                    if (f >= 0) for_each_point_in_plane_of(f, try_later);
+                    if (f >= 0) try_points_of_plane(f);
     while (!to_try.empty() && report.status == ConvertStatus::certified) {
         const int x = to_try.front();
         to_try.pop_front();
@@ -204,7 +280,7 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
             if (undo_split(y, report) < 0) break;  // what the rest left non-Delaunay is split again
             ++report.removed_points;
             for (const int f : faces_of(vertex_input_edge_[y - input_vertices_]))
-                if (f >= 0) for_each_point_in_plane_of(f, try_later);
+                if (f >= 0) try_points_of_plane(f);
         }
         drain(report);
     }
