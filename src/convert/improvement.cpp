@@ -1,6 +1,7 @@
 // After the loop: split points removed again, the fewest points per input edge, local search
 // (whose moves of points are in relocation.cpp).
 #include "convert/converter.hpp"
+#include "convert/packed_planes.hpp"
 #include "convert/piece_reach.hpp"
 
 #include <unordered_map>
@@ -23,68 +24,46 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
     const int split_points = static_cast<int>(P_.size());
     const Buckets on_edge(edges, split_points - input_vertices_, [&](int i) { return vertex_input_edge_[i]; });
     std::unordered_map<int, std::vector<int>> added_on_edge;
-    // The points of each plane, packed so that a scan reads them in a row (the scans are most of
-    // the pass's time, mostly waiting for scattered positions), and sorted along the axis of the
-    // plane's longest extent so that a scan reads only those near its piece. Built when the plane
-    // is first read, each point once; the points that drains add go unsorted at the end.
-    struct PlanePoint {
-        Eigen::Vector3d position;
-        int y, edge;  // edge: the input edge of a split point, -1 for an input vertex
-    };
-    struct PackedPlane {
-        std::vector<PlanePoint> points;
-        size_t sorted = 0;
-        int axis = 0;
-    };
+    // The points of each plane (each once: input vertices with edge -1), packed when the plane
+    // is first read, and the points that drains add.
     auto plane_id = [&](int f) { return any_flat ? plane_of[f] : f; };
-    std::vector<int> packed_index(static_cast<size_t>(input_faces), -1);  // by plane id
-    std::vector<PackedPlane> packed;
+    PackedPlanes packed(input_faces);
     size_t packed_until = P_.size();
     std::vector<int> corners, plane_edges;
-    auto packed_plane_of = [&](int f) -> const PackedPlane& {
+    auto packed_plane_of = [&](int f) {
         for (; packed_until < P_.size(); ++packed_until) {
             const int y = static_cast<int>(packed_until), edge = vertex_input_edge_[y - input_vertices_];
             if (edge < 0) continue;
             added_on_edge[edge].push_back(y);
             const auto [one, other] = faces_of(edge);
             for (const int face : {one, other})
-                if (face >= 0 && (face == one || plane_id(face) != plane_id(one)))
-                    if (const int index = packed_index[plane_id(face)]; index >= 0)
-                        packed[index].points.push_back({P_[y], y, edge});
+                if (face >= 0 && (face == one || plane_id(face) != plane_id(one)) && packed.built(plane_id(face)))
+                    packed.add(plane_id(face), {P_[y], y, edge});
         }
-        int& index = packed_index[plane_id(f)];
-        if (index < 0) {
-            corners.clear(), plane_edges.clear();
-            for_each_face_in_plane_of(f, [&](int face) {
-                for (int k = 0; k < 3; ++k) {
-                    corners.push_back(input_.F(face, k));
-                    plane_edges.push_back(input_edges_.face_edge(face, k));
-                }
-            });
-            for (std::vector<int>* ids : {&corners, &plane_edges}) {
-                std::sort(ids->begin(), ids->end());
-                ids->erase(std::unique(ids->begin(), ids->end()), ids->end());
+        const int plane = plane_id(f);
+        if (packed.built(plane)) return plane;
+        corners.clear(), plane_edges.clear();
+        for_each_face_in_plane_of(f, [&](int face) {
+            for (int k = 0; k < 3; ++k) {
+                corners.push_back(input_.F(face, k));
+                plane_edges.push_back(input_edges_.face_edge(face, k));
             }
-            index = static_cast<int>(packed.size());
-            PackedPlane& plane = packed.emplace_back();
-            std::vector<PlanePoint>& points = plane.points;
-            for (const int v : corners) points.push_back({P_[v], v, -1});
-            for (const int edge : plane_edges) {
-                for (const int i : on_edge[edge])
-                    if (!removed_[i]) points.push_back({P_[input_vertices_ + i], input_vertices_ + i, edge});
-                if (const auto added = added_on_edge.find(edge); added != added_on_edge.end())
-                    for (const int y : added->second)
-                        if (!removed_[y - input_vertices_]) points.push_back({P_[y], y, edge});
-            }
-            Eigen::AlignedBox3d box;
-            for (const PlanePoint& point : points) box.extend(point.position);
-            box.sizes().maxCoeff(&plane.axis);
-            std::sort(points.begin(), points.end(), [axis = plane.axis](const PlanePoint& one, const PlanePoint& other) {
-                return std::pair(one.position[axis], one.y) < std::pair(other.position[axis], other.y);
-            });
-            plane.sorted = points.size();
+        });
+        for (std::vector<int>* ids : {&corners, &plane_edges}) {
+            std::sort(ids->begin(), ids->end());
+            ids->erase(std::unique(ids->begin(), ids->end()), ids->end());
         }
-        return packed[index];
+        std::vector<PackedPlanes::Point> points;
+        for (const int v : corners) points.push_back({P_[v], v, -1});
+        for (const int edge : plane_edges) {
+            for (const int i : on_edge[edge])
+                if (!removed_[i]) points.push_back({P_[input_vertices_ + i], input_vertices_ + i, edge});
+            if (const auto added = added_on_edge.find(edge); added != added_on_edge.end())
+                for (const int y : added->second)
+                    if (!removed_[y - input_vertices_]) points.push_back({P_[y], y, edge});
+        }
+        packed.build(plane, std::move(points));
+        return plane;
     };
     // Points next to a plane of more than kMaxPlanePoints points stay: each try scans both
     // planes, and a removal retries their points (the corpus's largest plane has 1,269).
@@ -142,31 +121,18 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
     };
     size_t apex_tests = 0;
     // Those of the points of the plane of face f, off edge e. Only points that see p-q wider
-    // than f's corner off e (which stays) count, and they lie inside the ball round the arcs
-    // through p and q of that angle: (|pq| / 2)(sqrt(1 + c²) + max(c, 0)) from pq's middle, c
-    // its cotangent. So of the plane's sorted points, only those that near along its axis are read.
+    // than f's corner off e (which stays) count, so only those within its apex_reach are read.
     auto plane_apexes = [&](int f, int p, int q, int e, Apexes& found) {
         found.clear();
         const Eigen::Vector3d from = P_[p], to = P_[q];
-        auto test = [&](const PlanePoint& point) {
-            if (point.edge == e || point.y == p || point.y == q || is_gone(point.y)) return;
-            ++apex_tests;
-            found.add(cotangent_seen_from(point.position, from, to), point.y, !goes_with_edge(point.edge));
-        };
         int corner = 0;
         while (input_edges_.face_edge(f, corner) != e) ++corner;
-        const double c = cotangent_seen_from(P_[input_.F(f, corner)], from, to);
-        const double reach = (to - from).norm() / 2 * (std::hypot(1.0, c) + std::max(c, 0.0)) * (1 + 1e-6);
-        const PackedPlane& plane = packed_plane_of(f);
-        auto near = plane.points.begin(), far = near + static_cast<std::ptrdiff_t>(plane.sorted);
-        std::for_each(far, plane.points.end(), test);  // added by drains
-        if (reach < kNone) {  // (else c is infinite or NaN: every point is read)
-            const int axis = plane.axis;
-            const double middle = (from[axis] + to[axis]) / 2;
-            near = std::partition_point(near, far, [&](const PlanePoint& y) { return y.position[axis] < middle - reach; });
-            far = std::partition_point(near, far, [&](const PlanePoint& y) { return y.position[axis] <= middle + reach; });
-        }
-        std::for_each(near, far, test);
+        const double reach = apex_reach((to - from).norm() / 2, cotangent_seen_from(P_[input_.F(f, corner)], from, to));
+        packed.for_each_near(packed_plane_of(f), (from + to) / 2, reach, [&](const PackedPlanes::Point& point) {
+            if (point.edge == e || point.id == p || point.id == q || is_gone(point.id)) return;
+            ++apex_tests;
+            found.add(cotangent_seen_from(point.position, from, to), point.id, !goes_with_edge(point.edge));
+        });
     };
     // Those of x's neighbours from its piece `into` round to `last`; false where x has no face on
     // that side (a boundary line).
@@ -262,7 +228,7 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         to_try.push_back(x);
     };
     auto try_points_of_plane = [&](int f) {
-        for (const PlanePoint& point : packed_plane_of(f).points) try_later(point.y);
+        for (const PackedPlanes::Point& point : packed.points(packed_plane_of(f))) try_later(point.id);
     };
     if (!changed)
         for (int x = input_vertices_; x < split_points; ++x) try_later(x);
