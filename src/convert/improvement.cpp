@@ -1,7 +1,6 @@
 // After the loop: split points removed again, the fewest points per input edge, local search
 // (whose moves of points are in relocation.cpp).
 #include "convert/converter.hpp"
-#include "convert/packed_planes.hpp"
 #include "convert/piece_reach.hpp"
 
 #include <unordered_map>
@@ -24,24 +23,31 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
     const int split_points = static_cast<int>(P_.size());
     const Buckets on_edge(edges, split_points - input_vertices_, [&](int i) { return vertex_input_edge_[i]; });
     std::unordered_map<int, std::vector<int>> added_on_edge;
-    // The points of each plane (each once: input vertices with edge -1), packed when the plane
-    // is first read, and the points that drains add.
+    // The points of each plane, each once, packed in a row when the plane is first read (and
+    // extended with the points that drains add): the scans below are most of the pass's time,
+    // and read from scattered positions they mostly waited on memory.
+    struct PlanePoint {
+        Eigen::Vector3d position;
+        int y, edge;  // edge: the input edge of a split point, -1 for an input vertex
+    };
     auto plane_id = [&](int f) { return any_flat ? plane_of[f] : f; };
-    PackedPlanes packed(input_faces);
+    std::vector<int> packed_index(static_cast<size_t>(input_faces), -1);  // by plane id
+    std::vector<std::vector<PlanePoint>> packed;
     size_t packed_until = P_.size();
     std::vector<int> corners, plane_edges;
-    auto packed_plane_of = [&](int f) {
+    auto points_in_plane_of = [&](int f) -> std::span<const PlanePoint> {
         for (; packed_until < P_.size(); ++packed_until) {
             const int y = static_cast<int>(packed_until), edge = vertex_input_edge_[y - input_vertices_];
             if (edge < 0) continue;
             added_on_edge[edge].push_back(y);
             const auto [one, other] = faces_of(edge);
             for (const int face : {one, other})
-                if (face >= 0 && (face == one || plane_id(face) != plane_id(one)) && packed.built(plane_id(face)))
-                    packed.add(plane_id(face), {P_[y], y, edge});
+                if (face >= 0 && (face == one || plane_id(face) != plane_id(one)))
+                    if (const int index = packed_index[plane_id(face)]; index >= 0)
+                        packed[index].push_back({P_[y], y, edge});
         }
-        const int plane = plane_id(f);
-        if (packed.built(plane)) return plane;
+        int& index = packed_index[plane_id(f)];
+        if (index >= 0) return packed[index];
         corners.clear(), plane_edges.clear();
         for_each_face_in_plane_of(f, [&](int face) {
             for (int k = 0; k < 3; ++k) {
@@ -53,7 +59,8 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
             std::sort(ids->begin(), ids->end());
             ids->erase(std::unique(ids->begin(), ids->end()), ids->end());
         }
-        std::vector<PackedPlanes::Point> points;
+        index = static_cast<int>(packed.size());
+        std::vector<PlanePoint>& points = packed.emplace_back();
         for (const int v : corners) points.push_back({P_[v], v, -1});
         for (const int edge : plane_edges) {
             for (const int i : on_edge[edge])
@@ -62,8 +69,7 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
                 for (const int y : added->second)
                     if (!removed_[y - input_vertices_]) points.push_back({P_[y], y, edge});
         }
-        packed.build(plane, std::move(points));
-        return plane;
+        return points;
     };
     // Points next to a plane of more than kMaxPlanePoints points stay: each try scans both
     // planes, and a removal retries their points (the corpus's largest plane has 1,269).
@@ -120,19 +126,15 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         }
     };
     size_t apex_tests = 0;
-    // Those of the points of the plane of face f, off edge e. Only points that see p-q wider
-    // than f's corner off e (which stays) count, so only those within its apex_reach are read.
+    // Those of the points of the plane of face f, off edge e.
     auto plane_apexes = [&](int f, int p, int q, int e, Apexes& found) {
         found.clear();
         const Eigen::Vector3d from = P_[p], to = P_[q];
-        int corner = 0;
-        while (input_edges_.face_edge(f, corner) != e) ++corner;
-        const double reach = apex_reach((to - from).norm() / 2, cotangent_seen_from(P_[input_.F(f, corner)], from, to));
-        packed.for_each_near(packed_plane_of(f), (from + to) / 2, reach, [&](const PackedPlanes::Point& point) {
-            if (point.edge == e || point.id == p || point.id == q || is_gone(point.id)) return;
+        for (const PlanePoint& point : points_in_plane_of(f)) {
+            if (point.edge == e || point.y == p || point.y == q || is_gone(point.y)) continue;
             ++apex_tests;
-            found.add(cotangent_seen_from(point.position, from, to), point.id, !goes_with_edge(point.edge));
-        });
+            found.add(cotangent_seen_from(point.position, from, to), point.y, !goes_with_edge(point.edge));
+        }
     };
     // Those of x's neighbours from its piece `into` round to `last`; false where x has no face on
     // that side (a boundary line).
@@ -228,7 +230,7 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         to_try.push_back(x);
     };
     auto try_points_of_plane = [&](int f) {
-        for (const PackedPlanes::Point& point : packed.points(packed_plane_of(f))) try_later(point.id);
+        for (const PlanePoint& point : points_in_plane_of(f)) try_later(point.y);
     };
     if (!changed)
         for (int x = input_vertices_; x < split_points; ++x) try_later(x);
