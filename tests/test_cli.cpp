@@ -137,8 +137,8 @@ TEST_F(Cli, NoHausdorffReportsNullInsteadOfADistance) {
     EXPECT_EQ(skipped.err.find("Hausdorff"), std::string::npos) << skipped.err;
 }
 
-// --progress names each phase as it starts, in order (and, on long runs, the queue's and local
-// search's counts once a second), and the output is the same without it.
+// --progress names each phase as it starts, in order (and, on long runs, each phase's counts
+// once a second), and the output is the same without it.
 TEST_F(Cli, ConvertProgressNamesEachPhase) {
     const std::string convert = "convert " + kBunny + " ";
     const CliRun quiet = run_cli(convert + path("quiet.obj") + " --local-search 2");

@@ -94,7 +94,8 @@ struct ConvertOptions {
     /// split: also compute report.added_vertices_lower_bound (linear in the mesh size).
     bool lower_bound = false;
     /// Print progress lines to stderr: each phase as it starts, and about every second the
-    /// queue's splits and flips, or local search's share of the points done.
+    /// queue's splits and flips, the points removed and left to try, the fewest-points pass's
+    /// share of the edges done, or local search's share of the points done.
     bool progress = false;
     /// Compute the two-sided sampled Hausdorff distance output <-> input (0 for split). Off,
     /// report.hausdorff_rel is NaN wherever flips may have moved the surface: on a mesh of a

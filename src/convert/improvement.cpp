@@ -239,7 +239,11 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
             if ((*changed)[e])
                 for (const int f : faces_of(e))
                     if (f >= 0) try_points_of_plane(f);
+    const long long removed_before = report.removed_points;
     while (!to_try.empty() && report.status == ConvertStatus::certified) {
+        if (progress_due())
+            std::fprintf(stderr, "convert: removing the points no longer needed, %lld removed, %zu to try\n",
+                         report.removed_points - removed_before, to_try.size());
         const int x = to_try.front();
         to_try.pop_front();
         waiting[x - input_vertices_] = 0;
