@@ -6,11 +6,15 @@ namespace sdmesh::conversion {
 
 void Converter::classify_input_vertices() {
     // Each face's corners are judged in parallel (4.8M on the skull took 0.43 s with an
-    // arctangent each, on one thread), then counted by vertex in order.
+    // arctangent each, on one thread), then counted by vertex in order. The corners' positions
+    // lie anywhere: those of a later face are requested ahead.
     const int faces = input_.num_faces();
     std::vector<std::uint8_t> thin(static_cast<size_t>(faces));
+    constexpr int kAhead = 16;
 #pragma omp parallel for schedule(static)
     for (int f = 0; f < faces; ++f) {
+        if (f + kAhead < faces)
+            for (int c = 0; c < 3; ++c) __builtin_prefetch(&P_[input_.F(f + kAhead, c)]);
         const int u = input_.F(f, 0), v = input_.F(f, 1), w = input_.F(f, 2);
         const double opposite[3] = {dist(v, w), dist(w, u), dist(u, v)};
         std::uint8_t corners = 0;

@@ -221,10 +221,7 @@ public:
         detail::prefaulted_assign(input_length_, num_edges, 0.0);
         detail::prefaulted_assign(input_flat_, num_edges, char{0});
 #pragma omp parallel for schedule(static)
-        for (int e = 0; e < mesh_.num_edges(); ++e) {
-            const int h = mesh_.halfedge(e);
-            input_length_[e] = distance(P_[mesh_.tail(h)], P_[mesh_.head(h)]);
-        }
+        for (int e = 0; e < mesh_.num_edges(); ++e) input_length_[e] = dist(edges.E(e, 0), edges.E(e, 1));
     }
 
     void run(ConversionReport& report);
