@@ -492,9 +492,14 @@ MeshInfo validate(const TriangleMesh& mesh, const EdgeTable& edges, ValidateScop
     }
 
     // Faces are independent: counted in parallel, the first of each kind by the smallest index.
+    // Their corners' coordinates lie anywhere (a column each): those of a later face are
+    // requested ahead.
     int repeated = 0, zero_area = 0, first_repeated = info.faces, first_zero_area = info.faces;
 #pragma omp parallel for schedule(static) reduction(+ : repeated, zero_area) reduction(min : first_repeated, first_zero_area)
     for (int f = 0; f < info.faces; ++f) {
+        if (const int ahead = f + detail::kPrefetchDistance; ahead < info.faces)
+            for (int k = 0; k < 3; ++k)
+                for (int i = 0; i < 3; ++i) __builtin_prefetch(&V(F(ahead, k), i));
         if (has_repeated_index(F, f)) {
             ++repeated;
             first_repeated = std::min(first_repeated, f);

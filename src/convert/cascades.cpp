@@ -10,11 +10,10 @@ void Converter::classify_input_vertices() {
     // lie anywhere: those of a later face are requested ahead.
     const int faces = input_.num_faces();
     std::vector<std::uint8_t> thin(static_cast<size_t>(faces));
-    constexpr int kAhead = 16;
 #pragma omp parallel for schedule(static)
     for (int f = 0; f < faces; ++f) {
-        if (f + kAhead < faces)
-            for (int c = 0; c < 3; ++c) __builtin_prefetch(&P_[input_.F(f + kAhead, c)]);
+        if (const int ahead = f + detail::kPrefetchDistance; ahead < faces)
+            for (int c = 0; c < 3; ++c) __builtin_prefetch(&P_[input_.F(ahead, c)]);
         const int u = input_.F(f, 0), v = input_.F(f, 1), w = input_.F(f, 2);
         const double opposite[3] = {dist(v, w), dist(w, u), dist(u, v)};
         std::uint8_t corners = 0;

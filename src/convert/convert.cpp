@@ -17,7 +17,7 @@ void Converter::run(ConversionReport& report) {
     detail::prefaulted_assign(keys, static_cast<size_t>(edges), 0.0);
     detail::prefaulted_assign(needs_point_, static_cast<size_t>(edges), char{0});
     constexpr double kDelaunay = std::numeric_limits<double>::quiet_NaN();
-    constexpr int kAhead = 16;
+    constexpr int kAhead = detail::kPrefetchDistance;
 #pragma omp parallel for schedule(static)
     for (int e = 0; e < edges; ++e) {
         if (e + 2 * kAhead < edges) mesh_.prefetch(mesh_.halfedge(e + 2 * kAhead));
