@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -58,7 +59,7 @@ TEST_F(Cli, ConvertReportHasTheDocumentedKeys) {
     for (const char* key : {"input_vertices", "output_vertices", "input_non_delaunay_edges",
                             "input_nonflat_non_delaunay_edges", "flips", "splits", "unflippable_edges",
                             "skipped_splits", "removed_points", "fewest_points_saved", "added_vertices_lower_bound",
-                            "cascade_trials",
+                            "cascade_trials", "coplanar_tolerance",
                             "status", "seconds",
                             "hausdorff_rel", "certificate"})
         EXPECT_NE(r.out.find(std::string(1, '"').append(key).append("\": ")), std::string::npos) << key;
@@ -70,12 +71,42 @@ TEST_F(Cli, ConvertReportHasTheDocumentedKeys) {
     EXPECT_EQ(run_cli("check " + path("bunny_sd.obj")).code, 0);
 }
 
+// The number after "key": in a JSON report.
+double json_number(const std::string& json, const std::string& key) {
+    const std::string quoted = "\"" + key + "\": ";
+    const size_t at = json.find(quoted);
+    return at == std::string::npos ? std::numeric_limits<double>::quiet_NaN() : std::stod(json.substr(at + quoted.size()));
+}
+
+// Scopia's switch plate: its six-digit coordinates leave its triangles 1e-6 rad off one plane,
+// which split takes for folds at the default tolerance. A coplanar tolerance above that flips
+// across them instead: fewer vertices, and the report says how far the surface moved.
+TEST_F(Cli, ACoplanarToleranceFlipsWhatRoundingBent) {
+    const std::string plate = std::string(SDMESH_TEST_DATA_DIR) + "/scopia_switch_plate.obj";
+    const CliRun exact = run_cli("convert " + plate + " " + path("exact.obj"));
+    const CliRun bent = run_cli("convert " + plate + " " + path("bent.obj") + " --coplanar-tolerance 1e-5");
+    ASSERT_EQ(exact.code, 0) << exact.err;
+    ASSERT_EQ(bent.code, 0) << bent.err;
+    EXPECT_EQ(json_number(exact.out, "coplanar_tolerance"), 1e-10);
+    EXPECT_EQ(json_number(bent.out, "coplanar_tolerance"), 1e-5);
+    EXPECT_LT(2 * json_number(bent.out, "output_vertices"), json_number(exact.out, "output_vertices"));
+    EXPECT_EQ(json_number(exact.out, "hausdorff_rel"), 0.0);
+    EXPECT_GT(json_number(bent.out, "hausdorff_rel"), 0.0);
+    EXPECT_LT(json_number(bent.out, "hausdorff_rel"), 1e-6);
+    EXPECT_EQ(run_cli("check " + path("bent.obj")).code, 0);
+    const CliRun flat = run_cli("convert " + plate + " " + path("flat.obj") + " --coplanar-tolerance 1.6");
+    EXPECT_EQ(flat.code, 7);
+    EXPECT_NE(flat.err.find("coplanar_tolerance must be in [0, π/2) radians"), std::string::npos) << flat.err;
+}
+
 TEST_F(Cli, AConversionThatIsNotCertifiedSaysWhyInOneLine) {
     // The bunny needs about 280 new vertices: a budget of 1,850 (11 more) runs out.
     CliRun r = run_cli("convert " + kBunny + " " + path("budget.obj") + " --max-vertices 1850");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("not certified (budget_exhausted at 1850 vertices"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--max-vertices"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--coplanar-tolerance flips between faces that a file's rounding bent"), std::string::npos)
+        << r.err;
     EXPECT_NE(r.err.find("--method hybrid flips nearly flat folds"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     r = run_cli("convert " + kBunny + " " + path("budget.obj") + " --method hybrid --max-dihedral 0.1 --max-vertices 1850");
@@ -203,9 +234,7 @@ TEST_F(Cli, GeodesicReportsTheVerticesItsSourcesDoNotReach) {
     const CliRun r = run_cli("geodesic " + path("two_spheres.off") + " --source 0 --out " + path("d.ply"));
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("\"unreached_vertices\": " + std::to_string(n) + ","), std::string::npos) << r.out;
-    const size_t at = r.out.find("\"max_distance\": ");
-    ASSERT_NE(at, std::string::npos) << r.out;
-    EXPECT_NEAR(std::stod(r.out.substr(at + 16)), std::numbers::pi, 0.05 * std::numbers::pi) << r.out;
+    EXPECT_NEAR(json_number(r.out, "max_distance"), std::numbers::pi, 0.05 * std::numbers::pi) << r.out;
 }
 
 TEST_F(Cli, BoundaryPolicyChangesTheVerdict) {

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -411,6 +413,65 @@ TEST(ConvertMethods, ARaisedCoplanarToleranceReportsHowFarTheSurfaceMoved) {
 
     EXPECT_THROW(convert(kite, {.coplanar_tolerance = std::numbers::pi / 2}), InvalidArgumentError);
     EXPECT_THROW(convert(kite, {.coplanar_tolerance = -1e-12}), InvalidArgumentError);
+}
+
+// A rail of a rounded square profile (side 20, corners of radius 1.5 in 21 strips 0.11 wide),
+// 50 long, turned by 2e-6 rad and written with nine significant digits, as CAD files are: its
+// caps and strips come out up to 1e-5 rad off their planes. Split takes those bends for folds
+// and adds thousands of points along the strips; at a coplanar tolerance above the rounding it
+// flips across them, adds none, and the surface moves by about a step of the rounding.
+TEST(ConvertMethods, ARoundedRailNeedsNoPointAtACoplanarToleranceAboveItsRounding) {
+    constexpr int kStrips = 21;
+    constexpr double kHalfSide = 10, kRadius = 1.5, kLength = 50, kTurn = 2e-6;
+    std::vector<Eigen::Vector2d> profile;
+    for (int corner = 0; corner < 4; ++corner) {
+        const double cx = (corner == 0 || corner == 3 ? 1 : -1) * (kHalfSide - kRadius),
+                     cz = (corner < 2 ? 1 : -1) * (kHalfSide - kRadius);
+        for (int i = 0; i <= kStrips; ++i) {
+            const double t = std::numbers::pi / 2 * (corner + static_cast<double>(i) / kStrips);
+            profile.emplace_back(cx + kRadius * std::cos(t), cz + kRadius * std::sin(t));
+        }
+    }
+    const int n = static_cast<int>(profile.size());
+    auto nine_digits = [](double x) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.9g", x);
+        return std::strtod(text, nullptr);
+    };
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(kTurn, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    TriangleMesh rail{.V = Eigen::MatrixX3d(2 * n, 3), .F = Eigen::MatrixX3i(2 * n + 2 * (n - 2), 3)};
+    for (int end = 0; end < 2; ++end)
+        for (int i = 0; i < n; ++i) {
+            const Eigen::Vector3d p =
+                turn * Eigen::Vector3d(profile[i].x(), end * kLength, profile[i].y()) + Eigen::Vector3d(-140, -235, -18);
+            for (int c = 0; c < 3; ++c) rail.V(end * n + i, c) = nine_digits(p[c]);
+        }
+    int f = 0;
+    for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        rail.F.row(f++) << i, j, n + j;
+        rail.F.row(f++) << i, n + j, n + i;
+    }
+    for (int i = 1; i + 1 < n; ++i) {  // the caps as fans from the profile's first point
+        rail.F.row(f++) << 0, i + 1, i;
+        rail.F.row(f++) << n, n + i, n + i + 1;
+    }
+    const MeshInfo info = validate(rail);
+    ASSERT_TRUE(info.manifold() && info.orientation_conflicts == 0 && info.genus == 0);
+
+    const ConversionResult exact = convert(rail);
+    EXPECT_EQ(exact.report.status, ConvertStatus::certified);
+    EXPECT_GT(exact.report.splits, 1000);
+    EXPECT_EQ(exact.report.hausdorff_rel, 0.0);
+
+    const ConversionResult flipped = convert(rail, {.coplanar_tolerance = 1e-4});
+    EXPECT_EQ(flipped.report.status, ConvertStatus::certified);
+    EXPECT_EQ(flipped.report.splits, 0);
+    EXPECT_EQ(flipped.mesh.num_vertices(), rail.num_vertices());
+    EXPECT_GT(flipped.report.flips, 0);
+    // Nine digits of coordinates in the hundreds: steps of 1e-6.
+    EXPECT_LT(flipped.report.hausdorff_rel * bounding_box_diagonal(rail), 2e-6);
+    EXPECT_TRUE(certify(flipped.mesh).self_delaunay);
 }
 
 // Scopia's switch plate: a 32-gon whose six-digit coordinates leave its triangles 1e-6 rad off

@@ -27,8 +27,8 @@ bool repair_may_mend(const MeshInfo& info) {
 
 constexpr const char* kConvertUsage =
     "sdmesh convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell] [--max-dihedral DEG] "
-    "[--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--cascade-trials N] [--local-search PASSES] "
-    "[--lower-bound] [--repair] [--no-hausdorff] [--report FILE.json] [--progress]";
+    "[--coplanar-tolerance RAD] [--boundary strict|free] [--max-vertices N] [--tolerance RAD] [--cascade-trials N] "
+    "[--local-search PASSES] [--lower-bound] [--repair] [--no-hausdorff] [--report FILE.json] [--progress]";
 
 }  // namespace
 
@@ -40,6 +40,7 @@ int run_convert(Args& args) {
                              .value_or(options.split_rule);
     options.boundary = parse_boundary(args).value_or(options.boundary);
     options.max_dihedral_deg = args.number("--max-dihedral").value_or(options.max_dihedral_deg);
+    options.coplanar_tolerance = args.number("--coplanar-tolerance").value_or(options.coplanar_tolerance);
     options.tolerance = args.number("--tolerance").value_or(options.tolerance);
     // Vertex ids are ints.
     options.max_vertices = args.whole_number("--max-vertices", 0, std::numeric_limits<int>::max()).value_or(0);
@@ -81,7 +82,8 @@ int run_convert(Args& args) {
         // Thin strips of faces beside a fold need points about as far apart as the strip is wide,
         // whatever the rule (experiments/README.md): flipping nearly flat folds avoids most of them.
         const char* instead = options.method == ConvertMethod::split
-                                  ? ", and --method hybrid flips nearly flat folds instead of splitting them"
+                                  ? ", --coplanar-tolerance flips between faces that a file's rounding bent off one "
+                                    "plane, and --method hybrid flips nearly flat folds instead of splitting them"
                               : options.method == ConvertMethod::hybrid
                                   ? ", and a larger --max-dihedral flips more folds instead of splitting them"
                                   : "";

@@ -25,9 +25,9 @@ Commands:
   check MESH [--json] [--boundary strict|free] [--tolerance RAD]
                                   Delaunay certificate; exit 0 if self-Delaunay, 1 if not
   convert IN OUT [--method split|hybrid|flip] [--split-rule interval|shell]
-          [--max-dihedral DEG] [--boundary strict|free] [--max-vertices N]
-          [--cascade-trials N] [--local-search PASSES] [--lower-bound] [--repair]
-          [--no-hausdorff] [--report FILE.json] [--progress]
+          [--max-dihedral DEG] [--coplanar-tolerance RAD] [--boundary strict|free]
+          [--max-vertices N] [--tolerance RAD] [--cascade-trials N] [--local-search PASSES]
+          [--lower-bound] [--repair] [--no-hausdorff] [--report FILE.json] [--progress]
                                   self-Delaunay conversion; exit 0 if certified, 1 if not
   decimate IN OUT (--target-vertices N | --target-ratio R) [--max-error REL]
           [--boundary strict|free] [--convert-first] [--levels R1,R2,...]

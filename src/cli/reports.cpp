@@ -124,6 +124,7 @@ JsonObject conversion_json(const ConvertOptions& options, const ConversionReport
     json.add("method", to_string(options.method))
         .add("split_rule", to_string(options.split_rule))
         .add("max_dihedral_deg", options.max_dihedral_deg)
+        .add("coplanar_tolerance", options.coplanar_tolerance)
         .add("cascade_trials", options.cascade_trials)
         .add("local_search", options.local_search)
         .add("input_vertices", r.input_vertices)
