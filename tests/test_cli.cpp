@@ -96,7 +96,7 @@ TEST_F(Cli, ACoplanarToleranceFlipsWhatRoundingBent) {
     EXPECT_EQ(run_cli("check " + path("bent.obj")).code, 0);
     const CliRun flat = run_cli("convert " + plate + " " + path("flat.obj") + " --coplanar-tolerance 1.6");
     EXPECT_EQ(flat.code, 7);
-    EXPECT_NE(flat.err.find("coplanar_tolerance must be in [0, π/2) radians"), std::string::npos) << flat.err;
+    EXPECT_NE(flat.err.find("coplanar_tolerance must be in [0, π/2) radians, got 1.6"), std::string::npos) << flat.err;
 }
 
 TEST_F(Cli, AConversionThatIsNotCertifiedSaysWhyInOneLine) {

@@ -2,6 +2,7 @@
 #include "sdmesh/convert.hpp"
 
 #include "convert/converter.hpp"
+#include "number_text.hpp"
 
 namespace sdmesh::conversion {
 
@@ -326,9 +327,11 @@ namespace {
 void check_options(const ConvertOptions& o) {
     require_delaunay_tolerance(o.tolerance, "convert");
     if (!(o.max_dihedral_deg >= 0 && o.max_dihedral_deg <= 180))
-        throw InvalidArgumentError("convert: max_dihedral_deg must be in [0, 180]");
+        throw InvalidArgumentError("convert: max_dihedral_deg must be in [0, 180], got " +
+                                   detail::number_text(o.max_dihedral_deg));
     if (!(o.coplanar_tolerance >= 0 && o.coplanar_tolerance < std::numbers::pi / 2))
-        throw InvalidArgumentError("convert: coplanar_tolerance must be in [0, π/2) radians");
+        throw InvalidArgumentError("convert: coplanar_tolerance must be in [0, π/2) radians, got " +
+                                   detail::number_text(o.coplanar_tolerance));
     if (o.max_vertices < 0) throw InvalidArgumentError("convert: max_vertices must be >= 0");
     if (o.max_flips < 0) throw InvalidArgumentError("convert: max_flips must be >= 0");
     if (o.local_search < 0) throw InvalidArgumentError("convert: local_search must be >= 0");
