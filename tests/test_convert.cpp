@@ -417,7 +417,7 @@ TEST(ConvertMethods, ARaisedCoplanarToleranceReportsHowFarTheSurfaceMoved) {
 
 // A rail of a rounded square profile (side 20, corners of radius 1.5 in 21 strips 0.11 wide),
 // 50 long, turned by 2e-6 rad and written with nine significant digits, as CAD files are: its
-// caps and strips come out up to 1e-5 rad off their planes. Split takes those bends for folds
+// caps and strips come out up to 4e-5 rad off their planes. Split takes those bends for folds
 // and adds thousands of points along the strips; at a coplanar tolerance above the rounding it
 // flips across them, adds none, and the surface moves by about a step of the rounding.
 TEST(ConvertMethods, ARoundedRailNeedsNoPointAtACoplanarToleranceAboveItsRounding) {
