@@ -3,6 +3,7 @@
 #include "convert/converter.hpp"
 #include "convert/piece_reach.hpp"
 
+#include <bitset>
 #include <unordered_map>
 
 namespace sdmesh::conversion {
@@ -24,8 +25,8 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
     const Buckets on_edge(edges, split_points - input_vertices_, [&](int i) { return vertex_input_edge_[i]; });
     std::unordered_map<int, std::vector<int>> added_on_edge;
     // The points of each plane, each once, packed in a row when the plane is first read (and
-    // extended with the points that drains add): the scans below are most of the pass's time,
-    // and read from scattered positions they mostly waited on memory.
+    // extended with the points that drains add, and rid of those removed): the scans below are
+    // most of the pass's time, and read from scattered positions they mostly waited on memory.
     struct PlanePoint {
         Eigen::Vector3d position;
         int y, edge;  // edge: the input edge of a split point, -1 for an input vertex
@@ -83,10 +84,29 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         }
     }
     auto is_too_big = [&](int f) { return f >= 0 && any_flat && plane_too_big[plane_of[f]]; };
-    // The points of the chain being gathered, by split point (grown as the drain adds points).
+    auto drop_from_planes = [&](int y) {
+        for (const int f : faces_of(vertex_input_edge_[y - input_vertices_]))
+            if (f >= 0)
+                if (const int index = packed_index[plane_id(f)]; index >= 0)
+                    if (const auto it = std::find_if(packed[index].begin(), packed[index].end(),
+                                                     [&](const PlanePoint& point) { return point.y == y; });
+                        it != packed[index].end())
+                        packed[index].erase(it);  // in place: the order of the plane's tries stays
+    };
+    // The points of the chain being gathered, by split point (grown as the drain adds points),
+    // behind a filter of their ids modulo 4096: a plane scan asks about every point of the
+    // plane, and the filter answers nearly all of them without a scattered read.
+    std::vector<int> chain;
     std::vector<char> in_chain;
-    auto is_gone = [&](int y) {
-        return y >= input_vertices_ && (removed_[y - input_vertices_] || in_chain[y - input_vertices_]);
+    std::bitset<4096> chain_filter;
+    auto in_filter = [](int y) { return static_cast<size_t>(y) % 4096; };
+    auto is_in_chain = [&](int y) {
+        return y >= input_vertices_ && chain_filter[in_filter(y)] && in_chain[y - input_vertices_];
+    };
+    auto join_chain = [&](int y) {
+        in_chain[y - input_vertices_] = 1;
+        chain_filter.set(in_filter(y));
+        chain.push_back(y);
     };
     // A point that may go with the chain: a split point on a fold (one on a flat edge, inside a
     // plane, stays like the input vertices).
@@ -131,7 +151,7 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         found.clear();
         const Eigen::Vector3d from = P_[p], to = P_[q];
         for (const PlanePoint& point : points_in_plane_of(f)) {
-            if (point.edge == e || point.y == p || point.y == q || is_gone(point.y)) continue;
+            if (point.edge == e || point.y == p || point.y == q || is_in_chain(point.y)) continue;
             ++apex_tests;
             found.add(cotangent_seen_from(point.position, from, to), point.y, !goes_with_edge(point.edge));
         }
@@ -143,7 +163,7 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         const int h = side_into(into, x);
         if (h < 0) return false;
         for (int out = HalfedgeMesh::next(h); mesh_.head(out) != last; out = HalfedgeMesh::next(mesh_.twin(out)))
-            if (const int y = mesh_.head(out); y != p && y != q && !is_gone(y)) {
+            if (const int y = mesh_.head(out); y != p && y != q && !is_in_chain(y)) {
                 ++apex_tests;
                 found.add(cotangent_seen_from(P_[y], P_[p], P_[q]), y, !may_go(y));
             }
@@ -152,7 +172,7 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
     // The end of x's piece `piece` beyond the points of the chain.
     auto beyond_chain = [&](int x, int piece) {
         for (int z = other_end(piece, x);; z = other_end(piece, x)) {
-            if (z < input_vertices_ || !in_chain[z - input_vertices_]) return z;
+            if (!is_in_chain(z)) return z;
             const auto [one, other] = pieces_[z - input_vertices_];
             piece = one == piece ? other : one;
             x = z;
@@ -167,7 +187,6 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
     // break such a piece, or it grows past kChainPoints, kChainTests or the budget. It grows
     // first from the neighbours of its points, which cost little to read and settle most
     // points, then from the planes on their sides, where every apex of the pieces left lies.
-    std::vector<int> chain;
     Apexes sides[2];
     auto grow_chain = [&](bool whole_planes) {
         for (size_t i = 0; i < chain.size(); ++i) {
@@ -201,22 +220,21 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
                 const bool first = sides[1].going.empty() ||
                                    (!sides[0].going.empty() && sides[0].widest_left() <= sides[1].widest_left());
                 const int z = sides[first ? 0 : 1].pop_widest();
-                if (in_chain[z - input_vertices_]) continue;  // a point of both planes
+                if (is_in_chain(z)) continue;  // a point of both planes
                 if (chain.size() >= kChainPoints || apex_tests >= std::min(kChainTests, chain_work)) return false;
-                in_chain[z - input_vertices_] = 1;
-                chain.push_back(z);
+                join_chain(z);
             }
         }
         return true;
     };
     auto gather_chain = [&](int x) {
         in_chain.resize(P_.size() - input_vertices_, 0);
-        chain.assign(1, x);
-        in_chain[x - input_vertices_] = 1;
+        chain.clear();
+        join_chain(x);
         apex_tests = 0;
         const bool goes = grow_chain(false) && grow_chain(true);
         chain_work -= std::min(chain_work, apex_tests);
-        for (const int y : chain) in_chain[y - input_vertices_] = 0;
+        for (const int y : chain) in_chain[y - input_vertices_] = 0, chain_filter.reset(in_filter(y));
         return goes;
     };
     // Every split point is tried; a removal makes the points of the planes around it worth
@@ -251,6 +269,7 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         for (const int y : chain) {
             if (undo_split(y, report) < 0) break;  // what the rest left non-Delaunay is split again
             ++report.removed_points;
+            drop_from_planes(y);
             for (const int f : faces_of(vertex_input_edge_[y - input_vertices_]))
                 if (f >= 0) try_points_of_plane(f);
         }
