@@ -195,6 +195,30 @@ TEST_F(Cli, ConvertProgressNamesEachPhase) {
     EXPECT_EQ(read(path("loud.obj")), read(path("quiet.obj")));
 }
 
+// decimate --progress too, through the conversion that --convert-first runs.
+TEST_F(Cli, DecimateProgressNamesEachPhase) {
+    const std::string decimate = "decimate " + kBunny + " ";
+    const std::string options = " --convert-first --target-ratio 0.5";
+    const CliRun quiet = run_cli(decimate + path("quiet.obj") + options);
+    const CliRun loud = run_cli(decimate + path("loud.obj") + options + " --progress");
+    ASSERT_EQ(quiet.code, 0) << quiet.err;
+    ASSERT_EQ(loud.code, 0) << loud.err;
+    EXPECT_EQ(quiet.err, "");
+    size_t at = 0;
+    for (const std::string& line :
+         {"decimate: reading " + kBunny + "\n", std::string("convert: checking the input, 1839 vertices and 3674 faces\n"),
+          std::string("convert: certifying the output\n"), std::string("decimate: checking the input, "),
+          std::string("decimate: queueing the collapses of "), std::string("decimate: certifying the output\n"),
+          std::string("decimate: measuring the Hausdorff distance to the input\n"),
+          "decimate: writing " + path("loud.obj") + "\n"}) {
+        at = loud.err.find(line, at);
+        ASSERT_NE(at, std::string::npos) << line << "\n" << loud.err;
+    }
+    std::ifstream quiet_mesh(path("quiet.obj")), loud_mesh(path("loud.obj"));
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(loud_mesh), {}),
+              std::string(std::istreambuf_iterator<char>(quiet_mesh), {}));
+}
+
 TEST_F(Cli, EveryCommandPrintsItsOwnHelp) {
     const std::vector<std::string> commands = {"info",      "check",     "repair", "convert",  "decimate", "operators",
                                                "intrinsic", "eigs",      "geodesic", "poisson", "heat"};

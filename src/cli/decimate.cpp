@@ -72,6 +72,7 @@ int run_decimate(Args& args) {
     const std::optional<std::string> report_path = args.option("--report");
     const auto paths = args.positionals(2, kDecimateUsage);
 
+    if (options.progress) std::cerr << "decimate: reading " << paths[0] << std::endl;
     TriangleMesh mesh = read_mesh(paths[0]);
     check_mesh_output(paths[1]);  // before the decimation, not after it; levels go beside it
     if (report_path) check_text_output(*report_path);
@@ -93,6 +94,7 @@ int run_decimate(Args& args) {
         for (double ratio : parse_ratios(*levels_text))
             options.levels.push_back(std::llround(ratio * mesh.num_vertices()));
     const DecimateResult result = about_file(paths[0], [&] { return decimate(mesh, options); });
+    if (options.progress) std::cerr << "decimate: writing " << paths[1] << std::endl;
     write_mesh(paths[1], result.mesh);
     std::vector<std::string> level_files;
     for (size_t i = 0; i < result.levels.size(); ++i) {

@@ -34,6 +34,7 @@
 #include "flip_queue.hpp"
 #include "halfedge.hpp"
 #include "prefault.hpp"
+#include "progress_clock.hpp"
 #include "union_find.hpp"
 #include "sdmesh/distance.hpp"
 #include "sdmesh/error.hpp"
@@ -248,12 +249,8 @@ private:
             std::fprintf(stderr, "convert: %s, %lld vertices added\n", phase, report.splits - report.removed_points);
     }
 
-    // Whether a line of --progress is due: at most one a second, from whichever phase runs.
-    bool progress_due() {
-        if (!options_.progress || Clock::now() - last_progress_ < std::chrono::seconds(1)) return false;
-        last_progress_ = Clock::now();
-        return true;
-    }
+    // Whether a line of --progress is due, from whichever phase runs.
+    bool progress_due() { return progress_.due(); }
 
     // ConversionReport::added_vertices_lower_bound, from the input (before any split). Every
     // output vertex lies on an input edge, and the apexes of a piece of a physical edge see it
@@ -924,7 +921,7 @@ private:
     std::optional<Trial> trial_;
     std::vector<double> alternatives_;  // split_distance's, for split_across_strips
     long long trial_splits_ = 0;  // made by trials, all taken back
-    Clock::time_point last_progress_ = Clock::now();
+    ProgressClock progress_{options_.progress};
     detail::FlipQueue flat_queue_;
     std::priority_queue<std::pair<double, int>> physical_queue_;
 };

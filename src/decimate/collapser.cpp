@@ -1,7 +1,6 @@
 #include "decimate/collapser.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -96,14 +95,16 @@ void Collapser::move_owned_to(Collapser& to) {
 
 // ---- the loops ------------------------------------------------------------------------------
 
-void Collapser::collapse_below(double threshold, long long quota) {
+void Collapser::collapse_below(double threshold, long long quota, ProgressClock* progress) {
     const long long goal = collapses_ + quota;
-    while (collapses_ < goal && !queue_.empty() && queue_.front().key <= threshold) step();
+    while (collapses_ < goal && !queue_.empty() && queue_.front().key <= threshold) {
+        step();
+        if (progress && progress->due())
+            std::fprintf(stderr, "decimate: %lld vertices (in two halves)\n", mesh_.live_vertices.load());
+    }
 }
 
-bool Collapser::collapse_count(long long count, bool progress) {
-    using Clock = std::chrono::steady_clock;
-    auto last_progress = Clock::now();
+bool Collapser::collapse_count(long long count, ProgressClock& progress) {
     const long long goal = collapses_ + count;
     while (collapses_ < goal) {
         if (queue_.empty()) {
@@ -116,11 +117,9 @@ bool Collapser::collapse_count(long long count, bool progress) {
             continue;
         }
         step();
-        if (progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
-            last_progress = Clock::now();
+        if (progress.due())
             std::fprintf(stderr, "decimate: %lld vertices, %zu collapses queued\n", mesh_.live_vertices.load(),
                          queue_.size());
-        }
     }
     return true;
 }

@@ -16,6 +16,7 @@
 
 #include "decimate/flat_flips.hpp"
 #include "decimate/mesh_state.hpp"
+#include "progress_clock.hpp"
 #include "sdmesh/decimate.hpp"
 
 namespace sdmesh::decimation {
@@ -38,14 +39,15 @@ public:
     /// Queues the collapse of edge [u, w], u < w, keyed by its lower bound.
     void push(int u, int w);
 
-    /// Collapses while the least key queued is at most `threshold`, at most `quota` times.
-    void collapse_below(double threshold, long long quota);
+    /// Collapses while the least key queued is at most `threshold`, at most `quota` times; a
+    /// line on stderr when `progress` (null: none) says one is due.
+    void collapse_below(double threshold, long long quota, ProgressClock* progress);
 
     /// Collapses `count` times; false when no allowable collapse is left first (collapses refused
     /// too often wait for the next round, which starts when the queue runs dry; a round without a
-    /// collapse means that nothing allowable is left). With `progress`, a line on stderr about
-    /// every second.
-    bool collapse_count(long long count, bool progress);
+    /// collapse means that nothing allowable is left). A line on stderr when `progress` says one
+    /// is due.
+    bool collapse_count(long long count, ProgressClock& progress);
 
     /// The keys queued, appended to `out`.
     void append_keys(std::vector<double>& out) const;

@@ -129,9 +129,8 @@ void sync_clocks(std::array<Collapser, 2>& half, Collapser& whole) {
 // a quarter of the collapses left. Each half's steps depend only on the half and the seam's on the
 // state the halves leave, so the result does not depend on the number of threads.
 void collapse_in_halves(MeshState& mesh, std::array<Collapser, 2>& half, Collapser& whole, long long stop,
-                        bool progress) {
+                        ProgressClock& progress) {
     const auto total_collapses = [&] { return whole.collapses() + half[0].collapses() + half[1].collapses(); };
-    auto last_progress = Clock::now();
     std::vector<double> keys;
     long long reach = 1;
     for (;;) {
@@ -147,18 +146,19 @@ void collapse_in_halves(MeshState& mesh, std::array<Collapser, 2>& half, Collaps
         const double threshold = *kth;
         const long long before = total_collapses();
         sync_clocks(half, whole);
-        on_both_halves([&](int h) { half[h].collapse_below(threshold, left * live_in[h] / live); });
+        // Half 0 speaks for both: one clock, never read on two threads at once.
+        on_both_halves([&](int h) {
+            half[h].collapse_below(threshold, left * live_in[h] / live, h == 0 ? &progress : nullptr);
+        });
         for (Collapser& c : half) c.hand_over_to(whole);
         sync_clocks(half, whole);
-        whole.collapse_below(threshold, left - (total_collapses() - before));
+        whole.collapse_below(threshold, left - (total_collapses() - before), &progress);
         const long long done = total_collapses() - before;
         if (done == 0) break;
         if (4 * done < left) reach *= 2;
-        if (progress && Clock::now() - last_progress > std::chrono::seconds(1)) {
-            last_progress = Clock::now();
+        if (progress.due())
             std::fprintf(stderr, "decimate: %lld vertices (in two halves), %zu collapses queued\n",
                          mesh.live_vertices.load(), half[0].queued() + half[1].queued() + whole.queued());
-        }
     }
     for (Collapser& c : half) c.move_all_to(whole);
     sync_clocks(half, whole);
@@ -170,11 +170,12 @@ void collapse_to_stops(MeshState& mesh, const DecimateOptions& options, bool hal
     Collapser whole(mesh, options, -1);
     std::array<Collapser, 2> half{Collapser(mesh, options, 0), Collapser(mesh, options, 1)};
     queue_every_edge(mesh, halves, half, whole);
+    ProgressClock progress(options.progress);
     std::vector<long long> stops = options.levels;
     stops.push_back(target);
     for (size_t i = 0; i < stops.size(); ++i) {
-        if (halves) collapse_in_halves(mesh, half, whole, stops[i], options.progress);
-        if (!whole.collapse_count(mesh.live_vertices - stops[i], options.progress)) {
+        if (halves) collapse_in_halves(mesh, half, whole, stops[i], progress);
+        if (!whole.collapse_count(mesh.live_vertices - stops[i], progress)) {
             result.report.status = DecimateStatus::stalled;
             break;
         }
@@ -212,6 +213,11 @@ void check_options(const DecimateOptions& o, long long input_vertices, long long
 
 DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options) {
     const auto start = Clock::now();
+    auto announce = [&](const std::string& phase) {
+        if (options.progress) std::fprintf(stderr, "decimate: %s\n", phase.c_str());
+    };
+    announce("checking the input, " + std::to_string(mesh.num_vertices()) + " vertices and " +
+             std::to_string(mesh.num_faces()) + " faces");
     require_indices_in_range(mesh);
     const double diagonal = require_supported_extent(mesh);
     const EdgeTable edges = build_edge_table(mesh.F, mesh.num_vertices());
@@ -235,6 +241,7 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     report.input_vertices = input_vertices;
     report.input_faces = mesh.num_faces();
     report.target_vertices = target;
+    announce("queueing the collapses of " + std::to_string(edges.num_edges()) + " edges");
     SpatialOrder ordered = spatial_order(mesh);
     // Collapses run at the scale of a unit diagonal, by a power of two (exact both ways; only far
     // from it): the quadrics hold fourth powers of lengths, which overflow from coordinates of
@@ -249,10 +256,10 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     result.mesh = state.result(ordered.input_vertex);
     report.output_vertices = result.mesh.num_vertices();
     report.output_faces = result.mesh.num_faces();
+    announce("certifying the output");
     report.certificate = certify(result.mesh, certify_options);
     if (report.collapses > 0) {
-        if (options.progress && options.measure_hausdorff)
-            std::fprintf(stderr, "decimate: measuring the Hausdorff distance to the input\n");
+        if (options.measure_hausdorff) announce("measuring the Hausdorff distance to the input");
         // A few samples per face of the input: the output's faces are larger, and sampled densely.
         report.hausdorff_rel =
             options.measure_hausdorff
