@@ -33,6 +33,26 @@ protected:
         return path(name);
     }
 
+    // Runs `command` OUT `options` with and without --progress: nothing on stderr without it, with it
+    // `lines` in this order, and the same output file either way.
+    void expect_progress_lines(const std::string& command, const std::string& options, const std::vector<std::string>& lines) {
+        const CliRun quiet = run_cli(command + " " + path("quiet.obj") + options);
+        const CliRun loud = run_cli(command + " " + path("loud.obj") + options + " --progress");
+        ASSERT_EQ(quiet.code, 0) << quiet.err;
+        ASSERT_EQ(loud.code, 0) << loud.err;
+        EXPECT_EQ(quiet.err, "");
+        size_t at = 0;
+        for (const std::string& line : lines) {
+            at = loud.err.find(line, at);
+            ASSERT_NE(at, std::string::npos) << line << "\n" << loud.err;
+        }
+        auto read = [](const std::string& file) {
+            std::ifstream in(file);
+            return std::string(std::istreambuf_iterator<char>(in), {});
+        };
+        EXPECT_EQ(read(path("loud.obj")), read(path("quiet.obj")));
+    }
+
 private:
     test::TemporaryFolder folder_{"sdmesh_cli"};
 };
@@ -168,55 +188,24 @@ TEST_F(Cli, NoHausdorffReportsNullInsteadOfADistance) {
     EXPECT_EQ(skipped.err.find("Hausdorff"), std::string::npos) << skipped.err;
 }
 
-// --progress names each phase as it starts, in order (and, on long runs, each phase's counts
-// once a second), and the output is the same without it.
+// --progress names each phase as it starts (and, on long runs, each phase's counts once a second).
 TEST_F(Cli, ConvertProgressNamesEachPhase) {
-    const std::string convert = "convert " + kBunny + " ";
-    const CliRun quiet = run_cli(convert + path("quiet.obj") + " --local-search 2");
-    const CliRun loud = run_cli(convert + path("loud.obj") + " --local-search 2 --progress");
-    ASSERT_EQ(quiet.code, 0) << quiet.err;
-    ASSERT_EQ(loud.code, 0) << loud.err;
-    EXPECT_EQ(quiet.err, "");
-    size_t at = 0;
-    for (const std::string& line :
-         {"convert: reading " + kBunny + "\n", std::string("convert: checking the input, 1839 vertices and 3674 faces\n"),
-          std::string(" edges not locally Delaunay, 236 of them folds\n"),
-          std::string("convert: removing the points no longer needed, "),
-          std::string("convert: the fewest points per input edge, "),
-          std::string("convert: local search, pass 1 of 2, "), std::string("convert: local search, pass 2 of 2, "),
-          std::string("convert: certifying the output\n"), "convert: writing " + path("loud.obj") + "\n"}) {
-        at = loud.err.find(line, at);
-        ASSERT_NE(at, std::string::npos) << line << "\n" << loud.err;
-    }
-    auto read = [](const std::string& file) {
-        std::ifstream in(file);
-        return std::string(std::istreambuf_iterator<char>(in), {});
-    };
-    EXPECT_EQ(read(path("loud.obj")), read(path("quiet.obj")));
+    expect_progress_lines("convert " + kBunny, " --local-search 2",
+                          {"convert: reading " + kBunny + "\n", "convert: checking the input, 1839 vertices and 3674 faces\n",
+                           " edges not locally Delaunay, 236 of them folds\n", "convert: removing the points no longer needed, ",
+                           "convert: the fewest points per input edge, ", "convert: local search, pass 1 of 2, ",
+                           "convert: local search, pass 2 of 2, ", "convert: certifying the output\n",
+                           "convert: writing " + path("loud.obj") + "\n"});
 }
 
-// decimate --progress too, through the conversion that --convert-first runs.
+// decimate's too, through the conversion that --convert-first runs.
 TEST_F(Cli, DecimateProgressNamesEachPhase) {
-    const std::string decimate = "decimate " + kBunny + " ";
-    const std::string options = " --convert-first --target-ratio 0.5";
-    const CliRun quiet = run_cli(decimate + path("quiet.obj") + options);
-    const CliRun loud = run_cli(decimate + path("loud.obj") + options + " --progress");
-    ASSERT_EQ(quiet.code, 0) << quiet.err;
-    ASSERT_EQ(loud.code, 0) << loud.err;
-    EXPECT_EQ(quiet.err, "");
-    size_t at = 0;
-    for (const std::string& line :
-         {"decimate: reading " + kBunny + "\n", std::string("convert: checking the input, 1839 vertices and 3674 faces\n"),
-          std::string("convert: certifying the output\n"), std::string("decimate: checking the input, "),
-          std::string("decimate: queueing the collapses of "), std::string("decimate: certifying the output\n"),
-          std::string("decimate: measuring the Hausdorff distance to the input\n"),
-          "decimate: writing " + path("loud.obj") + "\n"}) {
-        at = loud.err.find(line, at);
-        ASSERT_NE(at, std::string::npos) << line << "\n" << loud.err;
-    }
-    std::ifstream quiet_mesh(path("quiet.obj")), loud_mesh(path("loud.obj"));
-    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(loud_mesh), {}),
-              std::string(std::istreambuf_iterator<char>(quiet_mesh), {}));
+    expect_progress_lines("decimate " + kBunny, " --convert-first --target-ratio 0.5",
+                          {"decimate: reading " + kBunny + "\n", "convert: checking the input, 1839 vertices and 3674 faces\n",
+                           "convert: certifying the output\n", "decimate: checking the input, ",
+                           "decimate: queueing the collapses of ", "decimate: certifying the output\n",
+                           "decimate: measuring the Hausdorff distance to the input\n",
+                           "decimate: writing " + path("loud.obj") + "\n"});
 }
 
 TEST_F(Cli, EveryCommandPrintsItsOwnHelp) {
