@@ -35,6 +35,7 @@ done
 if [ -e /usr/share/doc/libcgal-dev/data.tar.gz ]; then
   cmake --build "$build" --parallel "$(nproc)" --target sdmesh_cli
   step unseen_meshes "$python" experiments/unseen_meshes/sweep.py "$build/sdmesh" "$out"
+  step unseen_commands "$python" experiments/unseen_meshes/every_command.py "$build/sdmesh" "$out"
 else
   echo "== unseen_meshes: skipped (apt-get install libcgal-demo occt-misc geomview assimp-testmodels openscad-testing-data)"
 fi
