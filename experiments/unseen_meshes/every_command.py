@@ -21,7 +21,6 @@ command, the slowest runs, the failures), prints the summary and exits 1 if a ru
 Python 3 standard library only.
 """
 
-import argparse
 import collections
 import concurrent.futures
 import csv
@@ -129,20 +128,14 @@ def summarize(rows, meshes, seconds):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("sdmesh")
-    parser.add_argument("out", type=Path)
-    parser.add_argument("--work", type=Path)
-    parser.add_argument("--jobs", type=int, default=2)
+    parser = sweep.shared_arguments(__doc__)
     parser.add_argument("--timeout", type=float, default=600)
     parser.add_argument("--sample", type=int, default=300, help="how many meshes (0: all)")
     parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--no-download", action="store_true", help="leave out the downloaded packages")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="sdmesh_every_command_") as scratch:
         work = args.work or Path(scratch)
-        sources = [*sweep.INSTALLED, *([] if args.no_download else sweep.unpack_downloaded(work))]
-        meshes = sweep.gather_meshes(work, sources)
+        sources, meshes = sweep.find_meshes(work, args.no_download)
         if not meshes:
             sys.exit("every_command.py: no meshes found; see sweep.py")
         if 0 < args.sample < len(meshes):

@@ -139,6 +139,23 @@ def gather_meshes(work, sources):
     return sorted(p for p in found if p.is_file())
 
 
+def shared_arguments(doc):
+    """The command line that sweep.py and every_command.py share; each adds its own --timeout."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("sdmesh")
+    parser.add_argument("out", type=Path)
+    parser.add_argument("--work", type=Path)
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--no-download", action="store_true", help="leave out the downloaded packages")
+    return parser
+
+
+def find_meshes(work, no_download):
+    """The packages (name and folder) and their mesh files, unpacked below work as needed."""
+    sources = [*INSTALLED, *([] if no_download else unpack_downloaded(work))]
+    return sources, gather_meshes(work, sources)
+
+
 def source_name(mesh, work, sources):
     """The mesh's package and its path there, e.g. libcgal-demo:data/meshes/elk.off."""
     for package, root in (("libcgal-demo", work / "meshes"), *sources):
@@ -249,19 +266,13 @@ def summarize(rows, seconds):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("sdmesh")
-    parser.add_argument("out", type=Path)
-    parser.add_argument("--work", type=Path)
-    parser.add_argument("--jobs", type=int, default=2)
+    parser = shared_arguments(__doc__)
     parser.add_argument("--timeout", type=float, default=300)
-    parser.add_argument("--no-download", action="store_true", help="leave out the downloaded packages")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="sdmesh_sweep_") as scratch:
         work = args.work or Path(scratch)
         (work / "outputs").mkdir(parents=True, exist_ok=True)
-        sources = [*INSTALLED, *([] if args.no_download else unpack_downloaded(work))]
-        meshes = gather_meshes(work, sources)
+        sources, meshes = find_meshes(work, args.no_download)
         if not meshes:
             sys.exit("sweep.py: no meshes found; apt-get install libcgal-demo occt-misc geomview "
                      "assimp-testmodels openscad-testing-data")
