@@ -84,6 +84,8 @@ void Converter::remove_unneeded_points(ConversionReport& report, const std::vect
         }
     }
     auto is_too_big = [&](int f) { return f >= 0 && any_flat && plane_too_big[plane_of[f]]; };
+    // A removed point leaves the packed lists of its edge's planes (those packed so far), so the
+    // scans need not ask whether a point is still there.
     auto drop_from_planes = [&](int y) {
         for (const int f : faces_of(vertex_input_edge_[y - input_vertices_]))
             if (f >= 0)
