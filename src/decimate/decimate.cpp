@@ -156,9 +156,6 @@ void collapse_in_halves(MeshState& mesh, std::array<Collapser, 2>& half, Collaps
         const long long done = total_collapses() - before;
         if (done == 0) break;
         if (4 * done < left) reach *= 2;
-        if (progress.due())
-            std::fprintf(stderr, "decimate: %lld vertices (in two halves), %zu collapses queued\n",
-                         mesh.live_vertices.load(), half[0].queued() + half[1].queued() + whole.queued());
     }
     for (Collapser& c : half) c.move_all_to(whole);
     sync_clocks(half, whole);
