@@ -310,6 +310,9 @@ TEST_F(Cli, ErrorsHaveDistinctExitCodesAndOneLine) {
     expect_error("check " + kBunny + " --frobnicate", 2, "--frobnicate");
     expect_error("convert " + kBunny + " " + path("out.obj") + " --cascade-trials -1", 2, "--cascade-trials");
     expect_error("transmogrify " + kBunny, 2, "transmogrify");
+    expect_error("geodesic " + write_text("nothing.off", "OFF\n0 0 0\n") + " --source 0 --out " +
+                     path("d.ply"),
+                 7, "nothing.off has no edges");
     // Missing required options, for every command that has them.
     expect_error("operators " + kBunny, 2, "--out DIR is required");
     expect_error("intrinsic " + kBunny, 2, "--out DIR is required");

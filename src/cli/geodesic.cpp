@@ -31,6 +31,8 @@ int run_geodesic(Args& args) {
     JsonObject report;
     check_mesh_output(*out, /*with_vertex_fields=*/true);  // before a conversion and a solve
     const SolverInput input = load_solver_input(path, choices, report);
+    if (input.triangulation.num_edges() == 0)
+        throw InvalidArgumentError("geodesic: " + path + " has no edges, so there is no distance to compute");
     const HeatGeodesics geodesics(input.triangulation, options);
     const auto start = std::chrono::steady_clock::now();
     const Eigen::VectorXd distance = geodesics.distance(sources);
