@@ -430,7 +430,15 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
         auto delaunay = [&](double s, double t) {
             const Eigen::Vector3d u = A + s * along, v = A + t * along;
             if (sides == 1) return !strict || apex_cotangent(points[0], u, v) >= kPlacementMargin;
-            return apex_cotangent(points[0], u, v) + apex_cotangent(points[1], u, v) >= kPlacementMargin;
+            // Each apex of the larger side can only lower the sum: the first that breaks it decides.
+            const bool larger = points[1].size() > points[0].size();
+            const double smaller_side = apex_cotangent(points[larger ? 0 : 1], u, v);
+            double larger_side = std::numeric_limits<double>::infinity();
+            for (const Eigen::Vector3d& p : points[larger ? 1 : 0]) {
+                larger_side = std::min(larger_side, cotangent_seen_from(p, u, v));
+                if (smaller_side + larger_side < kPlacementMargin) return false;
+            }
+            return smaller_side + larger_side >= kPlacementMargin;
         };
         // Where the piece from s stops being locally Delaunay.
         auto reach = [&](double s) {
@@ -445,18 +453,21 @@ std::vector<char> Converter::fewest_points_per_edge(ConversionReport& report) {
         for (double s = 0; !delaunay(s, l);) {
             if (placed.size() + 1 > has) return std::nullopt;
             // Just short of the reach, where the margin holds (else where bisection finds it).
+            // x only moves down from here, so it fails as soon as it must end below `nearest`.
+            const double nearest = s + kNearEnd * l;
             double x = std::min(s + (reach(s) - s) * (1 - kPlacementMargin), l * (1 - kNearEnd));
+            if (x < nearest) return std::nullopt;
             if (!delaunay(s, x)) {
                 double beyond = x;
                 x = s;
-                for (int i = 0; i < 50; ++i) {
+                for (int i = 0; i < 50 && !(beyond < nearest); ++i) {
                     const double t = (x + beyond) / 2;
                     (delaunay(s, t) ? x : beyond) = t;
                 }
             }
             for (auto it = forbidden.rbegin(); it != forbidden.rend(); ++it)
                 if (it->first < x && x < it->second) x = it->first;  // by lo, downwards: x only moves down
-            if (!(x >= s + kNearEnd * l)) return std::nullopt;  // NaN too, from a degenerate face
+            if (!(x >= nearest)) return std::nullopt;  // NaN too, from a degenerate face
             placed.push_back(x);
             s = x;
         }
