@@ -26,6 +26,8 @@
 
 #include <Eigen/Geometry>
 
+#include "io/gzip.hpp"
+#include "io/whole_file.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
 
@@ -482,6 +484,35 @@ TEST(Read, ConcatenatedGzipMembersAreOneFile) {
     EXPECT_EQ(read_mesh(dir / "padded.obj.gz").num_faces(), 1);
     write_bytes(dir / "junk.obj.gz", read_bytes(dir / "ab.obj.gz") + std::string(2, '\0') + "junk");
     EXPECT_THROW(read_mesh(dir / "junk.obj.gz"), ParseError);
+}
+
+TEST(Read, TextBeyondTheMemoryCapIsRefusedNotRead) {
+    // A gzip bomb in miniature: 1 MiB of one byte, about a thousand times smaller compressed.
+    TempDir dir;
+    const std::string text(1 << 20, '#');
+    write_gzip(dir / "bomb.obj.gz", text);
+    const std::string compressed = read_bytes(dir / "bomb.obj.gz");
+    ASSERT_LT(compressed.size(), text.size() / 500);
+    EXPECT_EQ(io::gunzip(compressed, "bomb.obj.gz", text.size()), text);  // exactly the cap
+    try {
+        io::gunzip(compressed, "bomb.obj.gz", text.size() - 1);
+        ADD_FAILURE() << "no IoError";
+    } catch (const IoError& e) {
+        EXPECT_NE(std::string(e.what()).find("bomb.obj.gz: decompresses to more than"), std::string::npos) << e.what();
+    }
+    // The same for a plain file, read in full up to the cap and refused one byte beyond it.
+    write_bytes(dir / "big.obj", text);
+    EXPECT_EQ(io::read_file(dir / "big.obj", text.size()), text);
+    try {
+        io::read_file(dir / "big.obj", 4096);
+        ADD_FAILURE() << "no IoError";
+    } catch (const IoError& e) {
+        EXPECT_NE(std::string(e.what()).find("big.obj: holds more than 4096 bytes"), std::string::npos) << e.what();
+    }
+    // A quarter of this machine's memory: reading peaks at about twice the text.
+    const std::size_t memory = static_cast<std::size_t>(::sysconf(_SC_PHYS_PAGES)) *
+                               static_cast<std::size_t>(::sysconf(_SC_PAGE_SIZE));
+    EXPECT_EQ(io::max_text_bytes(), memory / 4);
 }
 
 // ---- OBJ -------------------------------------------------------------------------------------

@@ -7,6 +7,7 @@
 #include <new>
 #include <stdexcept>
 
+#include "io/whole_file.hpp"
 #include "sdmesh/error.hpp"
 
 namespace sdmesh::io {
@@ -36,7 +37,7 @@ std::size_t expected_size(std::string_view compressed) {
 
 }  // namespace
 
-std::string gunzip(std::string_view compressed, std::string_view file) {
+std::string gunzip(std::string_view compressed, std::string_view file, std::size_t max_bytes) {
     z_stream stream{};
     // 15 + 32: the largest window, and detect the gzip or zlib header by itself.
     if (inflateInit2(&stream, 15 + 32) != Z_OK) throw ParseError(std::string(file) + ": zlib init failed");
@@ -45,12 +46,14 @@ std::string gunzip(std::string_view compressed, std::string_view file) {
         ~Guard() { inflateEnd(s); }
     } guard{&stream};
 
-    std::string out(expected_size(compressed), '\0');
+    // One byte more than allowed tells data of exactly max_bytes from more.
+    const std::size_t cap = max_bytes + 1;
+    std::string out(std::min(expected_size(compressed), cap), '\0');
     std::size_t produced = 0;
     auto next_in = reinterpret_cast<const Bytef*>(compressed.data());
     std::size_t left_in = compressed.size();
     for (;;) {
-        if (produced == out.size()) out.resize(2 * out.size());
+        if (produced == out.size()) out.resize(std::min(2 * out.size(), cap));
         stream.next_in = const_cast<Bytef*>(next_in);  // zlib's API is not const-correct
         stream.avail_in = chunk_size(left_in);
         stream.next_out = reinterpret_cast<Bytef*>(out.data() + produced);
@@ -61,6 +64,7 @@ std::string gunzip(std::string_view compressed, std::string_view file) {
         next_in += in_before - stream.avail_in;
         left_in -= in_before - stream.avail_in;
         produced += out_before - stream.avail_out;
+        if (produced > max_bytes) throw_too_large(file, "decompresses to", max_bytes);
 
         if (status == Z_STREAM_END) {
             // Concatenated gzip members form one file, and zero bytes after the last member are

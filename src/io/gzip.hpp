@@ -1,6 +1,7 @@
 #pragma once
 // gzip through zlib, in memory: whole-buffer inflate for reading, a streaming encoder for writing.
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -10,7 +11,8 @@ namespace sdmesh::io {
 
 /// Decompresses gzip (or zlib) data, including files of several concatenated gzip members.
 /// \throws ParseError "<file>: ..." for corrupt or truncated data.
-std::string gunzip(std::string_view compressed, std::string_view file);
+/// \throws IoError "<file>: ..." if it decompresses to more than max_bytes (see whole_file.hpp).
+std::string gunzip(std::string_view compressed, std::string_view file, std::size_t max_bytes);
 
 /// Streams data into gzip format.
 class GzipEncoder {

@@ -22,6 +22,7 @@
 #include "io/gzip.hpp"
 #include "io/mesh_builder.hpp"
 #include "io/output_file.hpp"
+#include "io/whole_file.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
 
@@ -249,31 +250,6 @@ bool ends_with(std::string_view text, std::string_view suffix) {
     return text.size() >= suffix.size() && text.substr(text.size() - suffix.size()) == suffix;
 }
 
-// The whole file. Reads in a loop rather than trusting the size up front (pipes, files that
-// grow while read).
-std::string read_file(const std::filesystem::path& path) {
-    const std::string name = path.string();
-    std::FILE* file = std::fopen(name.c_str(), "rb");
-    if (file == nullptr) io::throw_io(name, "cannot open", errno);
-    struct Closer {
-        std::FILE* f;
-        ~Closer() { std::fclose(f); }
-    } closer{file};
-
-    std::error_code ec;
-    const std::uintmax_t size_hint = std::filesystem::file_size(path, ec);
-    std::string bytes(ec ? std::size_t{1} << 16 : static_cast<std::size_t>(size_hint) + 1, '\0');
-    std::size_t used = 0;
-    for (;;) {
-        used += std::fread(bytes.data() + used, 1, bytes.size() - used, file);
-        if (used < bytes.size()) break;  // end of file or error, told apart below
-        bytes.resize(2 * bytes.size());
-    }
-    if (std::ferror(file) != 0) io::throw_io(name, "read failed", errno);
-    bytes.resize(used);
-    return bytes;
-}
-
 bool is_blank_text(std::string_view bytes) {
     return std::all_of(bytes.begin(), bytes.end(),
                        [](unsigned char c) { return std::isspace(c) != 0; });
@@ -325,8 +301,9 @@ TriangleMesh read_mesh(const std::filesystem::path& path, ReadReport* report) {
     bool compressed = false;
     const MeshFormat format = format_from_path(path, &compressed);
     const std::string name = path.string();
-    std::string bytes = read_file(path);
-    if (compressed) bytes = io::gunzip(bytes, name);
+    const std::size_t max_bytes = io::max_text_bytes();
+    std::string bytes = io::read_file(path, max_bytes);
+    if (compressed) bytes = io::gunzip(bytes, name, max_bytes);
     TriangleMesh mesh = parse_mesh(bytes, format, name, report);
     if (report != nullptr) report->compressed = compressed;
     return mesh;
