@@ -619,6 +619,11 @@ TEST_F(Cli, ValueFilesTakeEveryFiniteDoubleAndRejectWhatUnderflows) {
         EXPECT_NE(read(dir_ / "err.txt").find("bad.txt:1: '" + std::string(value) + "' is not"), std::string::npos)
             << read(dir_ / "err.txt");
     }
+    // Control bytes (here a terminal's colour escape) are not echoed to the terminal.
+    std::ofstream(dir_ / "bad.txt") << "3 \x1b[31m\n";
+    EXPECT_EQ(run("poisson " + sphere + f + " --dirichlet " + (dir_ / "bad.txt").string() + out), 5);
+    EXPECT_NE(read(dir_ / "err.txt").find("bad.txt:1: '?[31m' is not a number\n"), std::string::npos)
+        << read(dir_ / "err.txt");
 }
 
 }  // namespace

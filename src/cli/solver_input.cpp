@@ -3,12 +3,13 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "cli/commands.hpp"
 #include "cli/reports.hpp"
 #include "cli/shared_options.hpp"
+#include "io/errors.hpp"
+#include "io/whole_file.hpp"
 #include "sdmesh/intrinsic.hpp"
 #include "sdmesh/io.hpp"
 
@@ -91,8 +92,8 @@ std::vector<int> parse_vertex_list(const std::string& option, const std::string&
 }
 
 Eigen::MatrixXd read_table(const std::string& path, int columns) {
-    std::ifstream in(path);
-    if (!in) throw IoError(path + ": cannot open");
+    // Read whole within the cap of mesh files: a link to /dev/zero is refused, not read forever.
+    std::istringstream in(io::read_file(path, io::max_text_bytes()));
     std::vector<double> values;
     int line_number = 0;
     for (std::string line; std::getline(in, line);) {
@@ -108,7 +109,7 @@ Eigen::MatrixXd read_table(const std::string& path, int columns) {
             const auto [end, error] = std::from_chars(first, field.data() + field.size(), value);
             const bool parsed = error == std::errc() && end == field.data() + field.size();
             if (!parsed || !std::isfinite(value))
-                throw ParseError(path + ":" + std::to_string(line_number) + ": '" + field + "' is " +
+                throw ParseError(path + ":" + std::to_string(line_number) + ": " + io::quoted(field) + " is " +
                                  (error == std::errc::result_out_of_range ? "out of double range"
                                   : parsed                                ? "not finite"
                                                                           : "not a number"));
