@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "io/gzip.hpp"
+#include "io/whole_file.hpp"
 #include "sdmesh/io.hpp"
 
 namespace sdmesh::fuzz {
@@ -29,7 +30,7 @@ inline TriangleMesh parse_fuzz_input(const std::uint8_t* data, std::size_t size)
     const MeshFormat format = kFormats[data[0] & 3];
     const std::string_view content(reinterpret_cast<const char*>(data + 1), size - 1);
     if ((data[0] & kGzipBit) == 0) return parse_mesh(content, format, "fuzz input");
-    return parse_mesh(io::gunzip(content, "fuzz input"), format, "fuzz input");
+    return parse_mesh(io::gunzip(content, "fuzz input", io::max_text_bytes()), format, "fuzz input");
 }
 
 }  // namespace sdmesh::fuzz
