@@ -25,13 +25,14 @@ struct CliRun {
     std::string out, err;
 };
 
-/// Runs `sdmesh <arguments>` through the shell (arguments are not quoted).
-inline CliRun run_cli(const std::string& arguments) {
+/// Runs `sdmesh <arguments>` through the shell (arguments are not quoted), after `shell_prefix`
+/// (a `ulimit -v N;`, variables to set).
+inline CliRun run_cli(const std::string& arguments, const std::string& shell_prefix = "") {
     static std::atomic<int> counter{0};
     const std::filesystem::path err_file =
         std::filesystem::temp_directory_path() /
         ("sdmesh_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".err");
-    const std::string command = std::string(SDMESH_CLI) + " " + arguments + " 2>" + err_file.string();
+    const std::string command = shell_prefix + SDMESH_CLI + " " + arguments + " 2>" + err_file.string();
     CliRun result;
     FILE* pipe = ::popen(command.c_str(), "r");
     char buffer[4096];

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bad_input_cases.hpp"
 #include "cli_runner.hpp"
 #include "meshes.hpp"
 #include "sdmesh/io.hpp"
@@ -320,6 +321,30 @@ TEST_F(Cli, ErrorsHaveDistinctExitCodesAndOneLine) {
     expect_error("geodesic " + kBunny, 2, "--source and --out are required");
     expect_error("poisson " + kBunny, 2, "--f and --out are required");
     expect_error("heat " + kBunny, 2, "are required");
+}
+
+// A gzip bomb of vertex lines would grow into coordinates three times its text: what the
+// process may not hold is refused with exit code 3, naming the file and the budget, instead of
+// running out of memory. A 1 GB address-space limit makes the budget (a sixteenth) 61 MiB.
+TEST_F(Cli, MeshBeyondTheMemoryBudgetIsRefused) {
+    const std::string limited = "ulimit -v 1000000; OPENBLAS_NUM_THREADS=1 ";  // one thread: less to map
+    auto write_bomb = [&](const std::string& name, std::size_t vertices) {
+        std::string text;
+        text.reserve(8 * vertices);
+        for (std::size_t i = 0; i < vertices; ++i) text += "v 0 0 0\n";
+        std::ofstream(path(name), std::ios::binary) << test::gzip_bytes(text);
+        return path(name);
+    };
+    // 48 MiB of coordinates are within the budget, 192 MiB are not.
+    const CliRun within = run_cli("info " + write_bomb("small.obj.gz", 2 << 20), limited);
+    EXPECT_EQ(within.code, 0) << within.err;
+    EXPECT_NE(within.out.find("2097152"), std::string::npos) << within.out;
+    const std::string bomb = write_bomb("bomb.obj.gz", 8 << 20);
+    EXPECT_LT(fs::file_size(bomb), 1u << 20);
+    const CliRun refused = run_cli("info " + bomb, limited);
+    EXPECT_EQ(refused.code, 3) << refused.err;
+    EXPECT_EQ(refused.err, "sdmesh: " + bomb + ": its vertices and faces take more than 61 MiB, the most a mesh read "
+                                               "may take (a sixteenth of the memory this process may use)\n");
 }
 
 // Outputs that cannot be written are refused before the work, not after it, and nothing is

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -27,6 +28,8 @@
 #include <Eigen/Geometry>
 
 #include "io/gzip.hpp"
+#include "io/memory_budget.hpp"
+#include "io/mesh_builder.hpp"
 #include "io/whole_file.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"
@@ -509,10 +512,40 @@ TEST(Read, TextBeyondTheMemoryCapIsRefusedNotRead) {
     } catch (const IoError& e) {
         EXPECT_NE(std::string(e.what()).find("big.obj: holds more than 4096 bytes"), std::string::npos) << e.what();
     }
-    // A quarter of this machine's memory: reading peaks at about twice the text.
+    // A quarter of the memory this process may use, which is at most the machine's.
     const std::size_t memory = static_cast<std::size_t>(::sysconf(_SC_PHYS_PAGES)) *
                                static_cast<std::size_t>(::sysconf(_SC_PAGE_SIZE));
-    EXPECT_EQ(io::max_text_bytes(), memory / 4);
+    EXPECT_LE(io::usable_memory(), memory);
+    EXPECT_GT(io::usable_memory(), 0u);
+    EXPECT_EQ(io::max_text_bytes(), io::usable_memory() / 4);
+    EXPECT_EQ(io::max_mesh_bytes(), io::usable_memory() / 16);
+}
+
+// What a text grows into is budgeted too: 24 bytes a vertex, 12 a triangle, more for a polygon.
+// The budget can be met exactly; what would go beyond it is refused and adds nothing.
+TEST(Read, MeshBeyondItsMemoryBudgetIsRefused) {
+    auto expect_refused = [](const std::function<void()>& add) {
+        try {
+            add();
+            ADD_FAILURE() << "no IoError";
+        } catch (const IoError& e) {
+            EXPECT_STREQ(e.what(), "bomb.obj: its vertices and faces take more than 1000 bytes, the most a mesh "
+                                   "read may take (a sixteenth of the memory this process may use)");
+        }
+    };
+    io::MeshBuilder mesh("bomb.obj", 1000);
+    for (int i = 0; i < 40; ++i) mesh.add_vertex(i, i * i, 0);  // 960 bytes
+    const std::vector<int> triangle{0, 1, 2}, quad{0, 1, 2, 3};
+    for (int i = 0; i < 3; ++i) ASSERT_TRUE(mesh.add_face(triangle));  // 996
+    expect_refused([&] { (void)mesh.add_face(quad); });  // two triangles (24 bytes) and its record
+    mesh.take(4);  // what a reader holds beside the mesh: 1000, the budget exactly
+    expect_refused([&] { mesh.add_vertex(0, 0, 0); });
+    expect_refused([&] { mesh.take(1); });
+    ReadReport report;
+    const TriangleMesh read = mesh.finish(report);
+    EXPECT_EQ(read.V.rows(), 40);
+    EXPECT_EQ(read.F.rows(), 3);
+    EXPECT_EQ(report.polygons, 0);
 }
 
 // ---- OBJ -------------------------------------------------------------------------------------

@@ -56,7 +56,9 @@ struct ReadReport {
 /// Non-finite coordinates (nan, inf) are read as they are; values outside the double range
 /// (1e999) are a ParseError. An empty or all-blank file is a ParseError.
 ///
-/// \throws IoError the file cannot be opened or read.
+/// \throws IoError the file cannot be opened or read, or its text or the mesh it holds would take
+///         more memory than reading may use: a quarter of what the process may use for the text
+///         (decompressed), a sixteenth for the vertices and faces.
 /// \throws UnsupportedFormatError unknown extension, or a header variant that is not supported.
 /// \throws ParseError malformed content; the message names the file and the line (text formats)
 ///         or byte offset / element (binary formats): truncation, bad numbers, a face with fewer
@@ -64,7 +66,7 @@ struct ReadReport {
 TriangleMesh read_mesh(const std::filesystem::path& path, ReadReport* report = nullptr);
 
 /// Parses mesh data already in memory (decompressed); `name` is used in error messages only.
-/// Same rules and exceptions as read_mesh (no IoError).
+/// Same rules and exceptions as read_mesh (IoError only for a mesh beyond its memory budget).
 TriangleMesh parse_mesh(std::string_view bytes, MeshFormat format, std::string_view name,
                         ReadReport* report = nullptr);
 

@@ -9,6 +9,7 @@
 #include "cli/reports.hpp"
 #include "cli/shared_options.hpp"
 #include "io/errors.hpp"
+#include "io/memory_budget.hpp"
 #include "io/whole_file.hpp"
 #include "sdmesh/intrinsic.hpp"
 #include "sdmesh/io.hpp"

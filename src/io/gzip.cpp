@@ -7,7 +7,7 @@
 #include <new>
 #include <stdexcept>
 
-#include "io/whole_file.hpp"
+#include "io/memory_budget.hpp"
 #include "sdmesh/error.hpp"
 
 namespace sdmesh::io {
@@ -64,7 +64,7 @@ std::string gunzip(std::string_view compressed, std::string_view file, std::size
         next_in += in_before - stream.avail_in;
         left_in -= in_before - stream.avail_in;
         produced += out_before - stream.avail_out;
-        if (produced > max_bytes) throw_too_large(file, "decompresses to", max_bytes);
+        if (produced > max_bytes) throw_too_large(file, "decompresses to", MemoryUse::text, max_bytes);
 
         if (status == Z_STREAM_END) {
             // Concatenated gzip members form one file, and zero bytes after the last member are

@@ -11,7 +11,7 @@ namespace sdmesh::io {
 
 /// Decompresses gzip (or zlib) data, including files of several concatenated gzip members.
 /// \throws ParseError "<file>: ..." for corrupt or truncated data.
-/// \throws IoError "<file>: ..." if it decompresses to more than max_bytes (see whole_file.hpp).
+/// \throws IoError "<file>: ..." if it decompresses to more than max_bytes (see memory_budget.hpp).
 std::string gunzip(std::string_view compressed, std::string_view file, std::size_t max_bytes);
 
 /// Streams data into gzip format.

@@ -5,10 +5,13 @@
 // same way everywhere. Index validation stays with the readers: only they know where in the file
 // an index came from, which the error message must say.
 
+#include <algorithm>
 #include <cstddef>
 #include <span>
+#include <string_view>
 #include <vector>
 
+#include "io/memory_budget.hpp"
 #include "sdmesh/io.hpp"
 #include "sdmesh/mesh.hpp"
 
@@ -16,14 +19,30 @@ namespace sdmesh::io {
 
 class MeshBuilder {
 public:
-    /// Callers bound these by what the remaining bytes can hold, never by header counts alone.
-    void reserve_vertices(std::size_t vertices) { xyz_.reserve(3 * vertices); }
-    void reserve_triangles(std::size_t triangles) { triangles_.reserve(3 * triangles); }
+    /// `file` names the input in the IoError thrown when what is read would take more than
+    /// max_bytes (memory_budget.hpp).
+    explicit MeshBuilder(std::string_view file, std::size_t max_bytes = max_mesh_bytes())
+        : file_(file), max_bytes_(max_bytes) {}
+
+    /// Callers bound these by what the remaining bytes can hold, never by header counts alone;
+    /// the budget bounds them too.
+    void reserve_vertices(std::size_t vertices) { xyz_.reserve(3 * std::min(vertices, max_bytes_ / kVertexBytes)); }
+    void reserve_triangles(std::size_t triangles) {
+        triangles_.reserve(3 * std::min(triangles, max_bytes_ / kTriangleBytes));
+    }
 
     void add_vertex(double x, double y, double z) {
+        take(kVertexBytes);
         xyz_.push_back(x);
         xyz_.push_back(y);
         xyz_.push_back(z);
+    }
+
+    /// Counts memory a reader holds beside the mesh (STL's table of welded corners) against the
+    /// same budget.
+    void take(std::size_t bytes) {
+        if (bytes > max_bytes_ - bytes_) throw_too_large(file_, "its vertices and faces take", MemoryUse::mesh, max_bytes_);
+        bytes_ += bytes;
     }
 
     /// Adds a face. One with more than 3 corners is kept as its fan (0, i, i+1) until finish()
@@ -32,6 +51,7 @@ public:
     /// corners: the caller reports that with its own location.
     [[nodiscard]] bool add_face(std::span<const int> corners) {
         if (corners.size() < 3) return false;
+        take((corners.size() - 2) * kTriangleBytes + (corners.size() > 3 ? sizeof(PolygonFan) : 0));
         if (corners.size() > 3) polygon_fans_.push_back({triangles_.size() / 3, corners.size()});
         for (std::size_t i = 1; i + 1 < corners.size(); ++i) {
             triangles_.push_back(corners[0]);
@@ -57,6 +77,12 @@ private:
         std::size_t first_triangle;
         std::size_t corners;
     };
+    static constexpr std::size_t kVertexBytes = 3 * sizeof(double);
+    static constexpr std::size_t kTriangleBytes = 3 * sizeof(int);
+
+    std::string_view file_;
+    std::size_t max_bytes_;
+    std::size_t bytes_ = 0;  // taken from max_bytes_ so far
 
     std::vector<double> xyz_;    // x0 y0 z0 x1 ...
     std::vector<int> triangles_; // a0 b0 c0 a1 ...

@@ -22,6 +22,7 @@
 #include "io/gzip.hpp"
 #include "io/mesh_builder.hpp"
 #include "io/output_file.hpp"
+#include "io/memory_budget.hpp"
 #include "io/whole_file.hpp"
 #include "sdmesh/error.hpp"
 #include "sdmesh/io.hpp"

@@ -23,7 +23,7 @@ namespace {
 
 class ObjReader {
 public:
-    ObjReader(std::string_view text, std::string_view file) : in_(text, file, true), file_(file) {}
+    ObjReader(std::string_view text, std::string_view file) : in_(text, file, true), file_(file), mesh_(file) {}
 
     TriangleMesh read(ReadReport& report) {
         while (in_.skip_empty_lines()) {

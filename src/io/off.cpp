@@ -37,7 +37,7 @@ void check_keyword(std::string_view keyword, const TextScanner& in, std::string_
 
 class OffReader {
 public:
-    OffReader(std::string_view text, std::string_view file) : in_(text, file, true), file_(file) {}
+    OffReader(std::string_view text, std::string_view file) : in_(text, file, true), file_(file), mesh_(file) {}
 
     TriangleMesh read(ReadReport& report) {
         read_header();

@@ -421,8 +421,8 @@ private:
 };
 
 template <class Source>
-TriangleMesh read_body(Source& source, const PlyHeader& header, ReadReport& report) {
-    MeshBuilder mesh;
+TriangleMesh read_body(Source& source, const PlyHeader& header, std::string_view file, ReadReport& report) {
+    MeshBuilder mesh(file);
     BodyReader<Source> body(source, header.vertex_count, mesh);
     for (const PlyElement& element : header.elements) body.read_element(element);
     return mesh.finish(report);
@@ -436,13 +436,13 @@ TriangleMesh parse_ply(std::string_view bytes, std::string_view file, ReadReport
     assign_roles(header, file);
     if (header.encoding == PlyEncoding::ascii) {
         AsciiSource source(text);
-        return read_body(source, header, report);
+        return read_body(source, header, file, report);
     }
     const std::string_view body = bytes.substr(static_cast<std::size_t>(text.position() - bytes.data()));
     const ByteOrder order =
         header.encoding == PlyEncoding::binary_little_endian ? ByteOrder::little : ByteOrder::big;
     BinarySource source(body, order, file);
-    return read_body(source, header, report);
+    return read_body(source, header, file, report);
 }
 
 // ---- writing ---------------------------------------------------------------------------------

@@ -44,7 +44,10 @@ public:
         const Key key{std::bit_cast<std::uint64_t>(x + 0.0), std::bit_cast<std::uint64_t>(y + 0.0),
                       std::bit_cast<std::uint64_t>(z + 0.0)};
         const auto [it, inserted] = ids_.try_emplace(key, static_cast<int>(ids_.size()));
-        if (inserted) mesh_.add_vertex(x + 0.0, y + 0.0, z + 0.0);
+        if (inserted) {
+            mesh_.take(kTableBytesPerVertex);
+            mesh_.add_vertex(x + 0.0, y + 0.0, z + 0.0);
+        }
         return it->second;
     }
 
@@ -53,6 +56,8 @@ public:
 
 private:
     using Key = std::array<std::uint64_t, 3>;
+    // A node of ids_ (link, key, id, cached hash: 64 bytes with malloc's header) and its bucket.
+    static constexpr std::size_t kTableBytesPerVertex = 72;
     struct KeyHash {
         std::size_t operator()(const Key& key) const {
             std::uint64_t h = key[0];
@@ -169,7 +174,7 @@ bool is_binary(std::string_view bytes) {
 }  // namespace
 
 TriangleMesh parse_stl(std::string_view bytes, std::string_view file, ReadReport& report) {
-    MeshBuilder mesh;
+    MeshBuilder mesh(file);
     VertexWelder welder(mesh);
     const bool ascii = !is_binary(bytes) && starts_with_solid(bytes) &&
                        bytes.find('\0') == std::string_view::npos;

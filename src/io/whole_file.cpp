@@ -1,4 +1,4 @@
-// Whole files in memory, within max_text_bytes().
+// Whole files in memory, up to a size the caller gives.
 
 #include "io/whole_file.hpp"
 
@@ -7,25 +7,10 @@
 #include <cstdio>
 #include <system_error>
 
-#include <unistd.h>
-
 #include "io/errors.hpp"
-#include "sdmesh/error.hpp"
+#include "io/memory_budget.hpp"
 
 namespace sdmesh::io {
-
-std::size_t max_text_bytes() {
-    const long pages = ::sysconf(_SC_PHYS_PAGES), page_size = ::sysconf(_SC_PAGE_SIZE);
-    if (pages <= 0 || page_size <= 0) return std::size_t{1} << 30;
-    return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page_size) / 4;
-}
-
-void throw_too_large(std::string_view file, std::string_view what, std::size_t max_bytes) {
-    const std::string size = max_bytes >= (std::size_t{1} << 20) ? std::to_string(max_bytes >> 20) + " MiB"
-                                                                  : std::to_string(max_bytes) + " bytes";
-    throw IoError(std::string(file) + ": " + std::string(what) + " more than " + size +
-                  ", the most text read into memory (a quarter of this machine's)");
-}
 
 std::string read_file(const std::filesystem::path& path, std::size_t max_bytes) {
     const std::string name = path.string();
@@ -38,14 +23,14 @@ std::string read_file(const std::filesystem::path& path, std::size_t max_bytes) 
 
     std::error_code ec;
     const std::uintmax_t size_hint = std::filesystem::file_size(path, ec);
-    if (!ec && size_hint > max_bytes) throw_too_large(name, "holds", max_bytes);
+    if (!ec && size_hint > max_bytes) throw_too_large(name, "holds", MemoryUse::text, max_bytes);
     // One byte more than allowed tells a file of exactly max_bytes from a larger one.
     const std::size_t cap = max_bytes + 1;
     std::string bytes(std::min<std::uintmax_t>(ec ? std::size_t{1} << 16 : size_hint + 1, cap), '\0');
     std::size_t used = 0;
     for (;;) {
         used += std::fread(bytes.data() + used, 1, bytes.size() - used, file);
-        if (used > max_bytes) throw_too_large(name, "holds", max_bytes);
+        if (used > max_bytes) throw_too_large(name, "holds", MemoryUse::text, max_bytes);
         if (used < bytes.size()) break;  // end of file or error, told apart below
         bytes.resize(std::min(2 * bytes.size(), cap));
     }

@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "io/gzip.hpp"
-#include "io/whole_file.hpp"
+#include "io/memory_budget.hpp"
 #include "sdmesh/io.hpp"
 
 namespace sdmesh::fuzz {
