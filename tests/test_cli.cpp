@@ -353,6 +353,8 @@ TEST_F(Cli, MeshBeyondTheMemoryBudgetIsRefused) {
 TEST_F(Cli, OutputsThatCannotBeWrittenAreRefusedFirst) {
     const std::string mesh = path("converted.obj"), missing = path("no/such/folder");
     const std::string a_file = write_text("a_file.txt", "not a folder\n");
+    const std::string a_folder = path("folder.obj");
+    fs::create_directory(a_folder);
     struct Case {
         std::string arguments;
         int code;
@@ -363,6 +365,8 @@ TEST_F(Cli, OutputsThatCannotBeWrittenAreRefusedFirst) {
          missing + "/r.json: cannot create file: No such file or directory"},
         {"convert " + kBunny + " " + missing + "/out.obj", 3, missing + "/out.obj: cannot create file: "},
         {"convert " + kBunny + " " + path("out.stl"), 4, "writing STL is not supported"},
+        {"convert " + kBunny + " " + a_folder, 3, a_folder + ": cannot create file: Is a directory"},
+        {"convert " + kBunny + " " + mesh + " --report " + a_folder, 3, a_folder + ": cannot create file: "},
         {"decimate " + kBunny + " " + mesh + " --convert-first --target-ratio 0.5 --report " + missing + "/r.json", 3,
          missing + "/r.json: cannot create file: "},
         {"repair " + kBunny + " " + missing + "/out.obj", 3, missing + "/out.obj: cannot create file: "},

@@ -102,11 +102,13 @@ void write_text_file(const std::filesystem::path& path, std::string_view text);
 
 /// What write_mesh (with vertex fields or not) would refuse about `path` itself, checked before the
 /// mesh exists, so that a command fails before it computes rather than after: an extension it
-/// does not write, vertex fields outside PLY, a folder that is missing or takes no new files.
+/// does not write, vertex fields outside PLY, a folder that is missing or takes no new files, a
+/// folder where the file would be.
 /// \throws UnsupportedFormatError, InvalidArgumentError, IoError as write_mesh.
 void check_mesh_output(const std::filesystem::path& path, bool with_vertex_fields = false);
 
-/// The same for write_text_file: a folder that is missing or takes no new files. \throws IoError
+/// The same for write_text_file: a folder that is missing or takes no new files, a folder where
+/// the file would be. \throws IoError
 void check_text_output(const std::filesystem::path& path);
 
 /// The format an extension names ("x.PLY.gz" -> ply, compressed = true).

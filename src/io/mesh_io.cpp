@@ -390,9 +390,12 @@ void write_text_file(const std::filesystem::path& path, std::string_view text) {
 }
 
 void check_text_output(const std::filesystem::path& path) {
-    // The temporary file goes beside `path`: its folder must exist and take new files.
+    // The temporary file goes beside `path`: its folder must exist and take new files, and the
+    // rename must not meet a folder of that name.
     const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
     if (::access(folder.c_str(), W_OK | X_OK) != 0) io::throw_io(path.string(), "cannot create file", errno);
+    std::error_code ignored;
+    if (std::filesystem::is_directory(path, ignored)) io::throw_io(path.string(), "cannot create file", EISDIR);
 }
 
 void check_mesh_output(const std::filesystem::path& path, bool with_vertex_fields) {
