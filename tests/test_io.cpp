@@ -521,6 +521,34 @@ TEST(Read, TextBeyondTheMemoryCapIsRefusedNotRead) {
     EXPECT_EQ(io::max_mesh_bytes(), io::usable_memory() / 16);
 }
 
+// Control groups limit a container's memory below the machine's: the least limit of the group and
+// of its ancestors counts, under cgroup v2 and under v1's memory controller.
+TEST(Read, MemoryLimitsOfControlGroupsAreFound) {
+    TempDir dir;
+    const fs::path& root = dir.path();
+    auto write_limit = [&](const fs::path& group, const std::string& file, const std::string& text) {
+        fs::create_directories(root / group);
+        write_bytes(root / group / file, text);
+    };
+    // v2: "max" at the top, 1 GiB in the group, 512 MiB in its parent.
+    write_limit("a/b", "memory.max", "1073741824\n");
+    EXPECT_EQ(io::cgroup_memory_limit("0::/a/b\n", root), std::size_t{1} << 30);
+    write_limit("a", "memory.max", "536870912\n");
+    EXPECT_EQ(io::cgroup_memory_limit("0::/a/b\n", root), std::size_t{1} << 29);
+    write_limit("", "memory.max", "max\n");
+    EXPECT_EQ(io::cgroup_memory_limit("0::/\n", root), SIZE_MAX);
+    // v1: the memory controller's hierarchy, alone or with others; other controllers do not count.
+    write_limit("memory/x", "memory.limit_in_bytes", "9223372036854771712\n");
+    write_limit("memory/y", "memory.limit_in_bytes", "2147483648\n");
+    EXPECT_EQ(io::cgroup_memory_limit("4:memory:/x\n", root), std::size_t{9223372036854771712ULL});
+    EXPECT_EQ(io::cgroup_memory_limit("1:cpu:/y\n3:cpu,memory:/y\n", root), std::size_t{1} << 31);
+    EXPECT_EQ(io::cgroup_memory_limit("1:cpu:/y\n", root), SIZE_MAX);
+    // Both (a hybrid system), a group whose folder is not there, and text that is not a list.
+    EXPECT_EQ(io::cgroup_memory_limit("4:memory:/y\n0::/a/b\n", root), std::size_t{1} << 29);
+    EXPECT_EQ(io::cgroup_memory_limit("0::/gone/deeper\n", root), SIZE_MAX);
+    EXPECT_EQ(io::cgroup_memory_limit("garbage", root), SIZE_MAX);
+}
+
 // What a text grows into is budgeted too: 24 bytes a vertex, 12 a triangle, more for a polygon.
 // The budget can be met exactly; what would go beyond it is refused and adds nothing.
 TEST(Read, MeshBeyondItsMemoryBudgetIsRefused) {

@@ -6,6 +6,8 @@
 #include <charconv>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <string>
 
 #include <sys/resource.h>
@@ -25,22 +27,32 @@ std::size_t read_limit(const std::filesystem::path& file) {
     return limit;
 }
 
-// The least memory limit of this process's control groups and of their ancestors, whose limits
-// hold too: memory.max under cgroup v2, memory.limit_in_bytes under v1's memory controller.
-// Lines of /proc/self/cgroup read "0::/path" (v2) or "4:memory:/path" (v1).
-std::size_t cgroup_memory_limit() {
+std::string self_cgroup() {
+    std::ifstream in("/proc/self/cgroup");
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::size_t resource_limit(int resource) {
+    rlimit limit{};
+    if (::getrlimit(resource, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return SIZE_MAX;
+    return static_cast<std::size_t>(limit.rlim_cur);
+}
+
+}  // namespace
+
+std::size_t cgroup_memory_limit(std::string_view self_cgroup, const std::filesystem::path& cgroup_root) {
     std::size_t limit = SIZE_MAX;
-    std::ifstream self("/proc/self/cgroup");
-    for (std::string line; std::getline(self, line);) {
+    std::istringstream lines{std::string(self_cgroup)};
+    for (std::string line; std::getline(lines, line);) {
         const auto first = line.find(':'), second = line.find(':', first + 1);
         if (first == std::string::npos || second == std::string::npos) continue;
         const std::string controllers = line.substr(first + 1, second - first - 1);
         std::filesystem::path root, file;
         if (line.compare(0, first, "0") == 0 && controllers.empty()) {
-            root = "/sys/fs/cgroup";
+            root = cgroup_root;
             file = "memory.max";
         } else if (("," + controllers + ",").find(",memory,") != std::string::npos) {
-            root = "/sys/fs/cgroup/memory";
+            root = cgroup_root / "memory";
             file = "memory.limit_in_bytes";
         } else {
             continue;
@@ -54,20 +66,13 @@ std::size_t cgroup_memory_limit() {
     return limit;
 }
 
-std::size_t resource_limit(int resource) {
-    rlimit limit{};
-    if (::getrlimit(resource, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return SIZE_MAX;
-    return static_cast<std::size_t>(limit.rlim_cur);
-}
-
-}  // namespace
-
 std::size_t usable_memory() {
     const long pages = ::sysconf(_SC_PHYS_PAGES), page_size = ::sysconf(_SC_PAGE_SIZE);
     const std::size_t physical = pages > 0 && page_size > 0
                                      ? static_cast<std::size_t>(pages) * static_cast<std::size_t>(page_size)
                                      : std::size_t{4} << 30;
-    return std::min({physical, resource_limit(RLIMIT_AS), resource_limit(RLIMIT_DATA), cgroup_memory_limit()});
+    return std::min({physical, resource_limit(RLIMIT_AS), resource_limit(RLIMIT_DATA),
+                     cgroup_memory_limit(self_cgroup(), "/sys/fs/cgroup")});
 }
 
 std::size_t max_text_bytes() { return usable_memory() / 4; }

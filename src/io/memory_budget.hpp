@@ -6,6 +6,7 @@
 // instead of running the machine out of memory. Reading peaks at about half the usable memory.
 
 #include <cstddef>
+#include <filesystem>
 #include <string_view>
 
 namespace sdmesh::io {
@@ -13,6 +14,12 @@ namespace sdmesh::io {
 /// The memory this process may use: the least of the machine's physical memory, the address
 /// space and data limits (ulimit -v, -d) and the memory limits of its control groups.
 std::size_t usable_memory();
+
+/// The least memory limit of the control groups that `self_cgroup` (the text of /proc/self/cgroup)
+/// names and of their ancestors, whose limits hold too, read below `cgroup_root` (/sys/fs/cgroup):
+/// memory.max under cgroup v2 ("0::/path"), memory.limit_in_bytes under v1's memory controller
+/// ("4:memory:/path"). SIZE_MAX where none is set or readable.
+std::size_t cgroup_memory_limit(std::string_view self_cgroup, const std::filesystem::path& cgroup_root);
 
 enum class MemoryUse { text, mesh };
 
