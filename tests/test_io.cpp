@@ -489,6 +489,51 @@ TEST(Read, ConcatenatedGzipMembersAreOneFile) {
     EXPECT_THROW(read_mesh(dir / "junk.obj.gz"), ParseError);
 }
 
+// Classic Mac OS ended lines with a lone CR. Such an OBJ used to be read as its first line alone
+// (one vertex, no face, no error); every text format now reads it as its LF twin, and errors name
+// the same lines.
+TEST(Read, LinesEndedByALoneCrAreLines) {
+    std::string stl = "solid tetrahedron\n";
+    for (const auto& corners : std::vector<std::string>{"0 0 0\n0 1 0\n1 0 0", "0 0 0\n1 0 0\n0 0 1",
+                                                        "1 0 0\n0 1 0\n0 0 1", "0 0 0\n0 0 1\n0 1 0"}) {
+        std::string vertices;
+        std::istringstream lines(corners);
+        for (std::string line; std::getline(lines, line);) vertices += "vertex " + line + "\n";
+        stl += "facet normal 0 0 0\nouter loop\n" + vertices + "endloop\nendfacet\n";
+    }
+    stl += "endsolid tetrahedron\n";
+    struct Text {
+        MeshFormat format;
+        std::string lf;
+        int line;  // of the first "1 0 0"
+    };
+    const std::vector<Text> texts = {
+        {MeshFormat::obj, "# a tetrahedron\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n", 3},
+        {MeshFormat::off, "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n", 4},
+        {MeshFormat::ply, "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+                          "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n", 11},
+        {MeshFormat::stl, stl, 6},
+    };
+    for (const auto& [format, lf, line] : texts) {
+        std::string cr = lf;
+        std::replace(cr.begin(), cr.end(), '\n', '\r');
+        const TriangleMesh expected = parse(lf, format), read = parse(cr, format);
+        EXPECT_EQ(read.num_faces(), 4) << cr;
+        EXPECT_TRUE(same_matrix(read.V, expected.V));
+        EXPECT_TRUE(same_matrix(read.F, expected.F));
+        // A bad number: the error names its line.
+        std::string broken = cr;
+        broken.replace(broken.find("1 0 0"), 5, "1 0 x");
+        expect_parse_error(broken, format, "test:" + std::to_string(line) + ":", "'x'");
+    }
+    // Line breaks of all three kinds in one file, and a continuation across a lone CR.
+    const TriangleMesh mixed = parse("v 0 0 0\rv 1 0 0\r\nv 0 1 0\nf 1 2 \\\r3\r", MeshFormat::obj);
+    EXPECT_EQ(mixed.num_vertices(), 3);
+    EXPECT_TRUE(same_matrix(mixed.F, faces({{0, 1, 2}})));
+    expect_parse_error("v 0 0 0\rv 1 0 0\r\nv 0 1 0\nf 1 2 \\\r3\rf 1 2 x\n", MeshFormat::obj, "test:6:");
+}
+
 TEST(Read, TextBeyondTheMemoryCapIsRefusedNotRead) {
     // A gzip bomb in miniature: 1 MiB of one byte, about a thousand times smaller compressed.
     TempDir dir;

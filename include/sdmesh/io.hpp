@@ -52,7 +52,8 @@ struct ReadReport {
 ///   Triangle strips (`tristrips`) are an UnsupportedFormatError rather than silently dropped.
 /// - STL: binary when the size is exactly 84 + 50 n, else ascii if it starts with "solid" and has
 ///   no NUL byte, else binary (whose size then does not match: a ParseError).
-/// A UTF-8 byte order mark at the start of a text file (or of a PLY header) is skipped.
+/// A UTF-8 byte order mark at the start of a text file (or of a PLY header) is skipped. Lines of
+/// text end with LF, CR LF or a lone CR (classic Mac OS), mixed or not.
 /// Non-finite coordinates (nan, inf) are read as they are; values outside the double range
 /// (1e999) are a ParseError. An empty or all-blank file is a ParseError.
 ///

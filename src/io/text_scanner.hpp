@@ -5,7 +5,9 @@
 // std::from_chars (locale-independent, exact, no allocation) and counts lines so that every error
 // names "<file>:<line>". Formats are line-oriented: a record is read from one line, then
 // next_line() skips whatever is left on it (colors, texture indices, comments).
+// A line ends with LF, CR LF or a lone CR (classic Mac OS), as Python's universal newlines.
 
+#include <algorithm>
 #include <charconv>
 #include <cstring>
 #include <string>
@@ -41,9 +43,9 @@ public:
         while (pos_ != end_) {
             if (is_blank(*pos_)) {
                 ++pos_;
-            } else if (*pos_ == '\\' && continues_line()) {
-                pos_ = static_cast<const char*>(std::memchr(pos_, '\n', remaining())) + 1;
-                ++line_;
+            } else if (*pos_ == '\\' && pos_ + 1 != end_ && is_line_break(pos_[1])) {
+                ++pos_;
+                skip_line_break();
             } else {
                 break;
             }
@@ -52,18 +54,13 @@ public:
 
     /// At a newline, a comment or the end of the text (call after skip_blanks()).
     [[nodiscard]] bool at_line_end() const {
-        return pos_ == end_ || *pos_ == '\n' || (hash_comments_ && *pos_ == '#');
+        return pos_ == end_ || is_line_break(*pos_) || (hash_comments_ && *pos_ == '#');
     }
 
     /// Moves to the start of the next line, dropping the rest of this one.
     void next_line() {
-        const void* newline = std::memchr(pos_, '\n', remaining());
-        if (newline == nullptr) {
-            pos_ = end_;
-            return;
-        }
-        pos_ = static_cast<const char*>(newline) + 1;
-        ++line_;
+        pos_ = std::min(next_of('\n', next_lf_), next_of('\r', next_cr_));
+        skip_line_break();
     }
 
     /// Skips blank and comment-only lines; afterwards the cursor is on the first token of a line.
@@ -150,23 +147,33 @@ private:
     static const char* skip_plus(const char* first, const char* last) {
         return last - first >= 2 && first[0] == '+' && first[1] != '-' ? first + 1 : first;
     }
-    static bool is_blank(char c) {
-        return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+    static bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
+    static bool is_line_break(char c) { return c == '\n' || c == '\r'; }
+    bool is_delimiter(char c) const { return is_blank(c) || is_line_break(c) || (hash_comments_ && c == '#'); }
+    // The first `c` at or after pos_ (end_ if none). `found` keeps the last answer, so that each
+    // character is searched for once over the whole text, not once a line (a text of CR lines
+    // has no LF: searching for one from every line would be quadratic).
+    const char* next_of(char c, const char*& found) const {
+        if (found == nullptr || found < pos_) {
+            const void* at = std::memchr(pos_, c, remaining());
+            found = at != nullptr ? static_cast<const char*>(at) : end_;
+        }
+        return found;
     }
-    bool is_delimiter(char c) const {
-        return is_blank(c) || c == '\n' || (hash_comments_ && c == '#');
-    }
-    // "\\\n" or "\\\r\n"
-    bool continues_line() const {
-        const char* next = pos_ + 1;
-        if (next != end_ && *next == '\r') ++next;
-        return next != end_ && *next == '\n';
+    // From a line break (LF, CR LF or CR) or the end of the text, to the start of the next line.
+    void skip_line_break() {
+        if (pos_ == end_) return;
+        if (*pos_ == '\r' && pos_ + 1 != end_ && pos_[1] == '\n') ++pos_;
+        ++pos_;
+        ++line_;
     }
 
     const char* pos_;
     const char* end_;
     std::string_view file_;
     bool hash_comments_;
+    const char* next_lf_ = nullptr;  // see next_of()
+    const char* next_cr_ = nullptr;
     long long line_ = 1;
     std::string_view element_;
     long long index_ = 0;
