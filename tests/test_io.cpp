@@ -799,6 +799,32 @@ TEST(Obj, ExtremeNumbersAreReadAndNonFiniteKept) {
     EXPECT_EQ(mesh.V(2, 2), 0.5);
 }
 
+// Old MSVC runtimes wrote infinity and NaN as "1.#INF00" and "-1.#IND00". In OBJ and OFF the '#'
+// used to start a comment, so that such a NaN was read as -1 without a word: now they are what
+// they say, in every text format, and a '#' elsewhere still starts a comment.
+TEST(Read, OldMsvcSpellingsOfNonFiniteValuesAreRead) {
+    const std::string values = "1.#INF -1.#INF00 +1.#INF0\n-1.#IND00 1.#QNAN0 -1.#SNAN\n";
+    for (const auto& [format, text] : std::vector<std::pair<MeshFormat, std::string>>{
+             {MeshFormat::obj, "v 1.#INF -1.#INF00 +1.#INF0 # comment\nv -1.#IND00 1.#QNAN0 -1.#SNAN\nv 1 2 3#4\n"},
+             {MeshFormat::off, "OFF\n3 0 0\n1.#INF -1.#INF00 +1.#INF0 # comment\n-1.#IND00 1.#QNAN0 -1.#SNAN\n1 2 3#4\n"},
+             {MeshFormat::ply, "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+                               "property double z\nend_header\n" + values + "1 2 3\n"},
+         }) {
+        const TriangleMesh mesh = parse(text, format);
+        ASSERT_EQ(mesh.num_vertices(), 3) << text;
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(std::abs(mesh.V(0, k)), std::numeric_limits<double>::infinity()) << text;
+            EXPECT_TRUE(std::isnan(mesh.V(1, k))) << text;
+            EXPECT_EQ(mesh.V(2, k), k + 1.0) << text;
+        }
+        EXPECT_LT(mesh.V(0, 1), 0);
+        EXPECT_GT(mesh.V(0, 2), 0);
+    }
+    // Anything else after "1.#INF" is not a number.
+    expect_parse_error("v 0 0 1.#INFINITE\n", MeshFormat::obj, "test:1:", "'1.#INFINITE'");
+    expect_parse_error("OFF\n1 0 0\n0 0 1.#IND01\n", MeshFormat::off, "test:3:", "'1.#IND01'");
+}
+
 TEST(Obj, MalformedInputIsParseErrorWithFileAndLine) {
     const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
     expect_parse_error(triangle + "f 1 2 0\n", MeshFormat::obj, "test:4:", "0");

@@ -54,8 +54,9 @@ struct ReadReport {
 ///   no NUL byte, else binary (whose size then does not match: a ParseError).
 /// A UTF-8 byte order mark at the start of a text file (or of a PLY header) is skipped. Lines of
 /// text end with LF, CR LF or a lone CR (classic Mac OS), mixed or not.
-/// Non-finite coordinates (nan, inf) are read as they are; values outside the double range
-/// (1e999) are a ParseError. An empty or all-blank file is a ParseError.
+/// Non-finite coordinates (nan, inf, and old MSVC's 1.#INF, -1.#IND) are read as they are;
+/// values outside the double range (1e999) are a ParseError. An empty or all-blank file is a
+/// ParseError.
 ///
 /// \throws IoError the file cannot be opened or read, or its text or the mesh it holds would take
 ///         more memory than reading may use: a quarter of what the process may use for the text

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -81,11 +82,16 @@ public:
         next_line();
     }
 
-    /// The next whitespace-delimited token on the line; empty at the end of the line.
+    /// The next whitespace-delimited token on the line; empty at the end of the line. A '#' that
+    /// continues an old MSVC spelling of infinity or NaN ("-1.#IND00") does not start a comment.
     std::string_view token() {
         skip_blanks();
         const char* first = pos_;
-        while (pos_ != end_ && !is_delimiter(*pos_)) ++pos_;
+        for (;;) {
+            while (pos_ != end_ && !is_delimiter(*pos_)) ++pos_;
+            if (pos_ == end_ || *pos_ != '#' || msvc_non_finite({first, static_cast<std::size_t>(end_ - first)}) == 0) break;
+            ++pos_;
+        }
         return {first, static_cast<std::size_t>(pos_ - first)};
     }
 
@@ -114,8 +120,13 @@ public:
         double value = 0;
         auto [ptr, ec] = std::from_chars(first, last, value);
         if (ec == std::errc::result_out_of_range) fail("number out of double range " + quoted(tok));
-        if (ec != std::errc() || ptr != last) fail("bad number " + quoted(tok));
-        return value;
+        if (ec == std::errc() && ptr == last) return value;
+        if (const int kind = msvc_non_finite(tok); kind != 0 && tok.find_first_not_of('0', msvc_length(tok)) == tok.npos) {
+            const double magnitude = kind == 1 ? std::numeric_limits<double>::infinity()
+                                               : std::numeric_limits<double>::quiet_NaN();
+            return tok[0] == '-' ? -magnitude : magnitude;
+        }
+        fail("bad number " + quoted(tok));
     }
 
     /// Parses a decimal integer at the start of `tok`; returns how many characters it used
@@ -143,6 +154,21 @@ public:
     }
 
 private:
+    // Old MSVC runtimes print infinity as "1.#INF", NaN as "1.#IND", "1.#QNAN" or "1.#SNAN",
+    // signed and padded with zeros ("-1.#IND00"). Whether `text` starts so: 1 infinity, 2 NaN, 0 not.
+    static int msvc_non_finite(std::string_view text) {
+        if (!text.empty() && (text[0] == '-' || text[0] == '+')) text.remove_prefix(1);
+        if (!text.starts_with("1.#")) return 0;
+        text.remove_prefix(3);
+        if (text.starts_with("INF")) return 1;
+        return text.starts_with("IND") || text.starts_with("QNAN") || text.starts_with("SNAN") ? 2 : 0;
+    }
+    // The length of that spelling without its padding.
+    static std::size_t msvc_length(std::string_view tok) {
+        const std::size_t sign = tok[0] == '-' || tok[0] == '+' ? 1 : 0;
+        const std::string_view word = tok.substr(sign + 3);
+        return sign + 3 + (word.starts_with("QNAN") || word.starts_with("SNAN") ? 4 : 3);
+    }
     // from_chars rejects a leading '+', which some writers emit; "+-1" stays an error.
     static const char* skip_plus(const char* first, const char* last) {
         return last - first >= 2 && first[0] == '+' && first[1] != '-' ? first + 1 : first;
