@@ -142,8 +142,13 @@ void CholeskySolver::factorize(const Eigen::SparseMatrix<double>& A) {
         throw InvalidArgumentError("Cholesky: the matrix does not have the analysed pattern");
     m.factorized = false;
     const int failed = detail::factorize_supernodal(*m.factor, m.solve_plan, m.factor_plan, A, m.common);
-    if (failed >= 0)
-        throw NumericalError("Cholesky: the matrix is not positive definite (column " + std::to_string(failed) + ")");
+    if (failed >= 0) {
+        // The factor's column, in the matrix's own numbering (a mesh's vertex).
+        const auto* perm = static_cast<const int*>(m.factor->Perm);
+        const int row = perm != nullptr ? perm[failed] : failed;
+        throw NumericalError("Cholesky: the matrix is not positive definite within rounding (the pivot of row " +
+                             std::to_string(row) + " is not positive)");
+    }
     m.factorized = true;
 }
 

@@ -26,6 +26,7 @@
 #include "mass_product.hpp"
 #include "block_lanczos.hpp"
 #include "constant_modes.hpp"
+#include "explained_factor.hpp"
 #include "free_vertices.hpp"
 #include "number_text.hpp"
 #include "prefault.hpp"
@@ -35,6 +36,10 @@ namespace sdmesh {
 namespace {
 
 using Sparse = Eigen::SparseMatrix<double>;
+
+constexpr std::string_view kShiftedMatrix = "eigenpairs: L - sigma M";
+// L is positive semidefinite and sigma negative, so only rounding, or a sigma too near 0 for it, can fail.
+const std::string kShiftAdvice = "a sigma further below 0 can help; " + std::string(detail::kIndefiniteMeshAdvice);
 
 // y = (L − σM)⁻¹ x for Spectra's shift-invert mode, on a CHOLMOD factor built when Spectra sets
 // the shift, deflated (see BlockLanczosOptions::deflate). Counts the solves for the report.
@@ -50,7 +55,7 @@ public:
 
     void set_shift(double sigma) {
         const Sparse shifted = L_ - sigma * M_;
-        solver_ = CholeskySolver(shifted);
+        solver_ = detail::explained(kShiftedMatrix, kShiftAdvice, [&] { return CholeskySolver(shifted); });
     }
 
     void perform_op(const double* x_in, double* y_out) const {
@@ -203,7 +208,7 @@ Eigenpairs block_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, in
             });
         factor.analyze(A);
     }
-    factor.factorize(A);
+    detail::explained(kShiftedMatrix, kShiftAdvice, [&] { factor.factorize(A); });
     if (options.progress)
         std::fprintf(stderr, "eigs: factorized in %.1f s; block Lanczos for %d pairs\n",
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), k);

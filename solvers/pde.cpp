@@ -12,6 +12,7 @@
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
 
+#include "explained_factor.hpp"
 #include "free_vertices.hpp"
 #include "number_text.hpp"
 
@@ -104,7 +105,8 @@ PoissonSolver::PoissonSolver(const Sparse& L, const Sparse& M, const std::vector
         throw NumericalError("Poisson: the mass matrix has no positive entry (a mesh without faces?)");
     Sparse A = L;
     pins.apply(A);
-    solver_ = CholeskySolver(A, cholesky);
+    solver_ = detail::explained("Poisson: L on the vertices not pinned", detail::kIndefiniteMeshAdvice,
+                                [&] { return CholeskySolver(A, cholesky); });
 }
 
 Eigen::VectorXd PoissonSolver::solve(const Eigen::VectorXd& b, const Eigen::VectorXd& dirichlet_values) const {
@@ -150,7 +152,7 @@ HeatSolver::HeatSolver(const Sparse& L, const Sparse& M, double t, const std::ve
     M_ = M;
     Sparse A = M_ + t * L_;
     pins.apply(A);
-    solver_ = CholeskySolver(A, cholesky);
+    solver_ = detail::explained("heat: M + tL", detail::kIndefiniteMeshAdvice, [&] { return CholeskySolver(A, cholesky); });
 }
 
 void HeatSolver::set_time_step(double t) {
@@ -158,7 +160,7 @@ void HeatSolver::set_time_step(double t) {
     check_time_scale(L_, M_, t);
     Sparse A = M_ + t * L_;
     detail::Pins(static_cast<int>(L_.rows()), fixed_, "heat").apply(A);
-    solver_.factorize(A);
+    detail::explained("heat: M + tL", detail::kIndefiniteMeshAdvice, [&] { solver_.factorize(A); });
 }
 
 Eigen::VectorXd HeatSolver::step(const Eigen::VectorXd& u0, int steps) const {

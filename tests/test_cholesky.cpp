@@ -268,6 +268,16 @@ TEST(Cholesky, RejectsMatricesThatAreNotPositiveDefinite) {
     CholeskySolver solver(grid_matrix(10, 1.0));
     EXPECT_THROW(solver.factorize(grid_matrix(10, -0.5)), NumericalError);
     EXPECT_THROW((void)solver.solve(Eigen::VectorXd::Ones(100)), InvalidArgumentError);  // factor is gone
+    // The message names the failing row in the matrix's numbering, not in the factor's order:
+    // every other principal submatrix is definite, so the first pivot to fail is row 437's.
+    Eigen::SparseMatrix<double> A = grid_matrix(30, 0.1);
+    A.coeffRef(437, 437) = -100;
+    try {
+        CholeskySolver indefinite(A);
+        ADD_FAILURE() << "no NumericalError";
+    } catch (const NumericalError& e) {
+        EXPECT_NE(std::string(e.what()).find("the pivot of row 437 is not positive"), std::string::npos) << e.what();
+    }
 }
 
 TEST(Cholesky, RejectsMisuse) {

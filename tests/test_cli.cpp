@@ -314,6 +314,10 @@ TEST_F(Cli, ErrorsHaveDistinctExitCodesAndOneLine) {
     expect_error("geodesic " + write_text("nothing.off", "OFF\n0 0 0\n") + " --source 0 --out " +
                      path("d.ply"),
                  7, "nothing.off has no edges");
+    // Two corners of a skewed grid have negative circumcentric cells, so M + tL is not definite.
+    write_mesh(path("skewed.obj"), make_grid(4, 4, 4.0, 4.0, 3.0));
+    expect_error("heat " + path("skewed.obj") + " --source 0 --time 1e-3 --mass circumcentric --out " + path("u.ply"),
+                 8, "skewed.obj: heat: M + tL: Cholesky: the matrix is not positive definite within rounding");
     // Missing required options, for every command that has them.
     expect_error("operators " + kBunny, 2, "--out DIR is required");
     expect_error("intrinsic " + kBunny, 2, "--out DIR is required");

@@ -299,6 +299,32 @@ TEST(Heat, ArgumentsAreChecked) {
     EXPECT_THROW((void)heat.step(Eigen::VectorXd::Constant(42, -HUGE_VAL)), InvalidArgumentError);
 }
 
+// A mass matrix with a negative entry (circumcentric cells of a mesh that is not self-Delaunay)
+// makes M + tL indefinite for small t: the error names the matrix, the vertex and the cure, when
+// the solver is made and when its step changes.
+TEST(Heat, AnIndefiniteMatrixIsNamedWithItsVertex) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(1));
+    const Sparse L = cotan_laplacian(t);
+    Sparse M = mass_matrix(t);
+    auto expect_named = [](const std::function<void()>& make) {
+        try {
+            make();
+            ADD_FAILURE() << "no NumericalError";
+        } catch (const NumericalError& e) {
+            const std::string message = e.what();
+            EXPECT_EQ(message.rfind("heat: M + tL: Cholesky: the matrix is not positive definite within rounding "
+                                    "(the pivot of row 7 is not positive); on a mesh that is not self-Delaunay",
+                                    0),
+                      0u)
+                << message;
+        }
+    };
+    M.coeffRef(7, 7) = -M.coeff(7, 7);
+    expect_named([&] { HeatSolver(L, M, 1e-3); });
+    HeatSolver negative(L, M, 10.0);  // tL outweighs the negative mass
+    expect_named([&] { negative.set_time_step(1e-3); });
+}
+
 TEST(Heat, AVertexInNoFaceIsNamedUnlessItIsPinned) {
     TriangleMesh mesh = make_icosphere(1);
     mesh.V.conservativeResize(mesh.V.rows() + 1, 3);

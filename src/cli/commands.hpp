@@ -29,14 +29,16 @@ enum ExitCode : int {
     kInternalError = 70,
 };
 
-/// Runs f(), naming `path` in the message of an InvalidMeshError it throws (the library's
-/// messages name elements, the command knows the file).
+/// Runs f(), naming `path` in the message of an InvalidMeshError or NumericalError it throws (the
+/// library's messages name elements, the command knows the file).
 template <class F>
 decltype(auto) about_file(const std::string& path, F&& f) {
     try {
         return f();
     } catch (const InvalidMeshError& e) {
         throw InvalidMeshError(path + ": " + e.what());
+    } catch (const NumericalError& e) {
+        throw NumericalError(path + ": " + e.what());
     }
 }
 

@@ -74,8 +74,10 @@ int run_eigs(Args& args) {
         throw InvalidArgumentError("eigs: -k " + std::to_string(options.k) + " needs a mesh with more than " +
                                    std::to_string(options.k) + " vertices; " + path + " has " + std::to_string(n) +
                                    (choices.convert ? " after its conversion" : ""));
-    const EigenResult result = smallest_eigenpairs(cotan_laplacian(input.triangulation),
-                                                   mass_matrix(input.triangulation, choices.mass.type), options);
+    const EigenResult result = about_file(path, [&] {
+        return smallest_eigenpairs(cotan_laplacian(input.triangulation),
+                                   mass_matrix(input.triangulation, choices.mass.type), options);
+    });
 
     make_output_folder(dir);
     write_text_file(dir / "eigenvalues.csv", eigenvalues_csv(result.values));

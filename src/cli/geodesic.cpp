@@ -33,7 +33,7 @@ int run_geodesic(Args& args) {
     const SolverInput input = load_solver_input(path, choices, report);
     if (input.triangulation.num_edges() == 0)
         throw InvalidArgumentError("geodesic: " + path + " has no edges, so there is no distance to compute");
-    const HeatGeodesics geodesics(input.triangulation, options);
+    const HeatGeodesics geodesics = about_file(path, [&] { return HeatGeodesics(input.triangulation, options); });
     const auto start = std::chrono::steady_clock::now();
     const Eigen::VectorXd distance = geodesics.distance(sources);
     const double query_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

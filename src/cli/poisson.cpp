@@ -70,7 +70,7 @@ int run_poisson(Args& args) {
     const auto start = std::chrono::steady_clock::now();
     const Eigen::SparseMatrix<double> L = cotan_laplacian(input.triangulation),
                                       M = mass_matrix(input.triangulation, choices.mass.type);
-    const Eigen::VectorXd u = PoissonSolver(L, M, vertices).solve(M * f, values);
+    const Eigen::VectorXd u = about_file(path, [&] { return PoissonSolver(L, M, vertices).solve(M * f, values); });
     const double solve_seconds = seconds_since(start);
     write_mesh(*out, input.mesh, {.vertex_fields = {{"u", u}}});
     report.add("dirichlet_vertices", static_cast<long long>(vertices.size()))
@@ -109,9 +109,11 @@ int run_heat(Args& args) {
             u0[v] = 1;
         }
     const auto start = std::chrono::steady_clock::now();
-    const HeatSolver heat(cotan_laplacian(input.triangulation), mass_matrix(input.triangulation, choices.mass.type),
-                          *time);
-    const Eigen::VectorXd u = heat.step(u0, static_cast<int>(steps));
+    const Eigen::VectorXd u = about_file(path, [&] {
+        return HeatSolver(cotan_laplacian(input.triangulation), mass_matrix(input.triangulation, choices.mass.type),
+                          *time)
+            .step(u0, static_cast<int>(steps));
+    });
     const double solve_seconds = seconds_since(start);
     write_mesh(*out, input.mesh, {.vertex_fields = {{"u", u}}});
     report.add("time", *time)
