@@ -11,6 +11,7 @@
 #include <charconv>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -89,7 +90,9 @@ public:
         const char* first = pos_;
         for (;;) {
             while (pos_ != end_ && !is_delimiter(*pos_)) ++pos_;
-            if (pos_ == end_ || *pos_ != '#' || msvc_non_finite({first, static_cast<std::size_t>(end_ - first)}) == 0) break;
+            if (pos_ == end_ || *pos_ != '#') [[likely]]
+                break;
+            if (!msvc_non_finite({first, static_cast<std::size_t>(end_ - first)})) break;
             ++pos_;
         }
         return {first, static_cast<std::size_t>(pos_ - first)};
@@ -121,11 +124,8 @@ public:
         auto [ptr, ec] = std::from_chars(first, last, value);
         if (ec == std::errc::result_out_of_range) fail("number out of double range " + quoted(tok));
         if (ec == std::errc() && ptr == last) return value;
-        if (const int kind = msvc_non_finite(tok); kind != 0 && tok.find_first_not_of('0', msvc_length(tok)) == tok.npos) {
-            const double magnitude = kind == 1 ? std::numeric_limits<double>::infinity()
-                                               : std::numeric_limits<double>::quiet_NaN();
-            return tok[0] == '-' ? -magnitude : magnitude;
-        }
+        if (const auto msvc = msvc_non_finite(tok); msvc && tok.find_first_not_of('0', msvc->length) == tok.npos)
+            return msvc->value;
         fail("bad number " + quoted(tok));
     }
 
@@ -155,19 +155,21 @@ public:
 
 private:
     // Old MSVC runtimes print infinity as "1.#INF", NaN as "1.#IND", "1.#QNAN" or "1.#SNAN",
-    // signed and padded with zeros ("-1.#IND00"). Whether `text` starts so: 1 infinity, 2 NaN, 0 not.
-    static int msvc_non_finite(std::string_view text) {
-        if (!text.empty() && (text[0] == '-' || text[0] == '+')) text.remove_prefix(1);
-        if (!text.starts_with("1.#")) return 0;
-        text.remove_prefix(3);
-        if (text.starts_with("INF")) return 1;
-        return text.starts_with("IND") || text.starts_with("QNAN") || text.starts_with("SNAN") ? 2 : 0;
-    }
-    // The length of that spelling without its padding.
-    static std::size_t msvc_length(std::string_view tok) {
-        const std::size_t sign = tok[0] == '-' || tok[0] == '+' ? 1 : 0;
-        const std::string_view word = tok.substr(sign + 3);
-        return sign + 3 + (word.starts_with("QNAN") || word.starts_with("SNAN") ? 4 : 3);
+    // signed and padded with zeros ("-1.#IND00"). The value such a spelling at the start of
+    // `text` stands for, and its length without the padding.
+    struct MsvcNonFinite {
+        double value;
+        std::size_t length;
+    };
+    static std::optional<MsvcNonFinite> msvc_non_finite(std::string_view text) {
+        const std::size_t sign = !text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0;
+        if (text.substr(sign, 3) != "1.#") return std::nullopt;
+        const double unit = sign == 1 && text[0] == '-' ? -1.0 : 1.0;
+        constexpr double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+        for (const auto& [word, value] : {std::pair{std::string_view("INF"), inf}, std::pair{std::string_view("IND"), nan},
+                                          std::pair{std::string_view("QNAN"), nan}, std::pair{std::string_view("SNAN"), nan}})
+            if (text.substr(sign + 3).starts_with(word)) return MsvcNonFinite{unit * value, sign + 3 + word.size()};
+        return std::nullopt;
     }
     // from_chars rejects a leading '+', which some writers emit; "+-1" stays an error.
     static const char* skip_plus(const char* first, const char* last) {
