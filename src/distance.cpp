@@ -178,13 +178,18 @@ ClosestPoint TriangleTree::closest_point(const Vector3d& query) const {
 }
 
 ClosestPoint TriangleTree::closest_point(const Vector3d& query, int near_face) const {
+    return closest_point_beyond(query, near_face, -1);
+}
+
+ClosestPoint TriangleTree::closest_point_beyond(const Vector3d& query, int near_face, double squared_radius) const {
     const Triangle& t = triangles_[slot_[near_face]];
     const Vector3d x = nearest_on_triangle(query, t.corner, t.normal);
     // The same value the traversal computes for this face, so the minimum is the same.
-    return search(query, {(x - query).squaredNorm(), x, near_face});
+    return search(query, {(x - query).squaredNorm(), x, near_face}, squared_radius);
 }
 
-ClosestPoint TriangleTree::search(const Vector3d& query, ClosestPoint best) const {
+ClosestPoint TriangleTree::search(const Vector3d& query, ClosestPoint best, double enough) const {
+    if (best.squared_distance <= enough) return best;
     struct Pending {
         int node;
         double box_d2;
@@ -203,6 +208,7 @@ ClosestPoint TriangleTree::search(const Vector3d& query, ClosestPoint best) cons
                 const double d2 = (x - query).squaredNorm();
                 if (d2 < best.squared_distance) best = {d2, x, face_[i]};
             }
+            if (best.squared_distance <= enough) return best;
             continue;
         }
         Pending near{pending.node + 1, nodes_[pending.node + 1].box.squaredExteriorDistance(query)};
@@ -254,7 +260,7 @@ int face_resolution(long long num_vertices, long long num_faces, const Hausdorff
 
 // Distances from the samples of `from` to the surface held by `to`; only on the faces flagged in
 // `faces` (and their vertices) when it is not null, the others counting as at distance 0. The
-// density is that of the whole mesh either way.
+// density is that of the whole mesh either way. Without options.mean, the mean is NaN.
 OneSided sample_distances(const TriangleMesh& from, const TriangleTree& to, const HausdorffOptions& options,
                           const std::vector<char>* faces) {
     const std::vector<int> all_vertices = referenced_vertices(from, nullptr);
@@ -265,24 +271,30 @@ OneSided sample_distances(const TriangleMesh& from, const TriangleTree& to, cons
 
     // Each search starts from the face nearest to the previous sample of its thread, usually
     // next to it (files list neighbours near each other): the distance found is the same from any
-    // start, only the search is shorter.
+    // start, only the search is shorter. Without the mean, a search stops at the first face within
+    // its thread's maximum so far, as such a sample cannot raise it; a distance above the maximum
+    // is exact, so each thread's maximum is the same as with full searches.
     double worst = 0;
     std::vector<double> face_mean(nf, 0.0), area(nf);
     long long sampled_faces = 0;
 #pragma omp parallel
     {
         int near_face = -1;
-        const auto nearest = [&](const Vector3d& x) {
-            const ClosestPoint hit = near_face < 0 ? to.closest_point(x) : to.closest_point(x, near_face);
+        double thread_worst2 = 0;
+        const auto sample = [&](const Vector3d& x) {
+            const ClosestPoint hit = near_face < 0 ? to.closest_point(x)
+                                     : options.mean ? to.closest_point(x, near_face)
+                                                    : to.closest_point_beyond(x, near_face, thread_worst2);
             near_face = hit.face;
+            thread_worst2 = std::max(thread_worst2, hit.squared_distance);
             return std::sqrt(hit.squared_distance);
         };
-#pragma omp for schedule(dynamic, 256) reduction(max : worst)
-        for (int i = 0; i < nv; ++i) worst = std::max(worst, nearest(from.V.row(vertices[i]).transpose()));
+#pragma omp for schedule(dynamic, 256)
+        for (int i = 0; i < nv; ++i) sample(from.V.row(vertices[i]).transpose());
 
         // Face f's samples are a + v·(b - a) + w·(c - a): the centroids of the k² sub-triangles of
         // a k-subdivision (weights for the mean) and the three edge midpoints.
-#pragma omp for schedule(dynamic, 64) reduction(max : worst) reduction(+ : sampled_faces)
+#pragma omp for schedule(dynamic, 64) reduction(+ : sampled_faces)
         for (int f = 0; f < nf; ++f) {
             const Vector3d a = from.V.row(from.F(f, 0)).transpose();
             const Vector3d ab = from.V.row(from.F(f, 1)).transpose() - a;
@@ -290,30 +302,29 @@ OneSided sample_distances(const TriangleMesh& from, const TriangleTree& to, cons
             area[f] = 0.5 * ab.cross(ac).norm();
             if (faces && !(*faces)[f]) continue;
             ++sampled_faces;
-            const auto sample = [&](double v, double w) {
-                const double d = nearest(a + v * ab + w * ac);
-                worst = std::max(worst, d);
-                return d;
-            };
-            sample(0.5, 0.0);
-            sample(0.0, 0.5);
-            sample(0.5, 0.5);
+            const auto at = [&](double v, double w) { return sample(a + v * ab + w * ac); };
+            at(0.5, 0.0);
+            at(0.0, 0.5);
+            at(0.5, 0.5);
             double sum = 0;
             for (int i = 0; i < k; ++i)
                 for (int j = 0; i + j < k; ++j) {
-                    sum += sample((i + 1.0 / 3) / k, (j + 1.0 / 3) / k);
-                    if (i + j + 1 < k) sum += sample((i + 2.0 / 3) / k, (j + 2.0 / 3) / k);
+                    sum += at((i + 1.0 / 3) / k, (j + 1.0 / 3) / k);
+                    if (i + j + 1 < k) sum += at((i + 2.0 / 3) / k, (j + 2.0 / 3) / k);
                 }
             face_mean[f] = sum / (k * k);
         }
+#pragma omp critical
+        worst = std::max(worst, std::sqrt(thread_worst2));
     }
+    const long long samples = nv + sampled_faces * (static_cast<long long>(k) * k + 3);
+    if (!options.mean) return {worst, std::numeric_limits<double>::quiet_NaN(), samples};
 
     // A mesh of zero area weights its faces equally.
     const double total_area = std::accumulate(area.begin(), area.end(), 0.0);
     double weighted = 0;
     for (int f = 0; f < nf; ++f) weighted += (total_area > 0 ? area[f] : 1.0) * face_mean[f];
-    return {worst, weighted / (total_area > 0 ? total_area : nf),
-            nv + sampled_faces * (static_cast<long long>(k) * k + 3)};
+    return {worst, weighted / (total_area > 0 ? total_area : nf), samples};
 }
 
 // The faces of `mesh` that may meet a triangle of `replaced`: those with a triangle within their

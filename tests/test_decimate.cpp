@@ -1,6 +1,7 @@
 // Delaunay-preserving decimation: every level self-Delaunay, topology kept, target reached or a
 // stall reported, the error bound respected, determinism; on meshes made in code and the corpus.
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -14,6 +15,7 @@
 
 #include "cli_run.hpp"
 #include "corpus.hpp"
+#include "decimate/mesh_state.hpp"
 #include "sdmesh/convert.hpp"
 #include "sdmesh/decimate.hpp"
 #include "sdmesh/distance.hpp"
@@ -395,6 +397,43 @@ TEST_F(DecimateCli, ConvertFirstOrAClearError) {
     EXPECT_EQ(run("decimate " + in + " " + out), 2);  // no target
     EXPECT_EQ(run("decimate " + in + " " + out + " --target-ratio 0.5 --target-vertices 3"), 2);
     EXPECT_EQ(run("decimate " + in + " " + out + " --target-ratio 0.5 --levels 0.7,x"), 2);
+}
+
+// The faces around a vertex move from their place to the heap past nine and back below.
+TEST(FaceRing, KeepsItsFacesInPlaceAndOnTheHeap) {
+    decimation::FaceRing ring;
+    std::vector<int> expected;
+    const auto same = [&](const std::string& when) {
+        EXPECT_EQ(std::vector<int>(ring.begin(), ring.end()), expected) << when;
+        EXPECT_EQ(ring.size(), expected.size()) << when;
+    };
+    EXPECT_TRUE(ring.empty());
+    for (int f = 0; f < 12; ++f) {
+        ring.push_back(10 * f);
+        expected.push_back(10 * f);
+        same("after pushing " + std::to_string(f));
+    }
+    ring.push_back(30);  // a second 30: erase takes both
+    ring.erase(30);
+    std::erase(expected, 30);
+    same("erase of a repeated face");
+    for (int f : {0, 110, 50, 70}) {
+        ring.erase(f);
+        std::erase(expected, f);
+        same("erase of " + std::to_string(f));
+    }
+    ring.erase(12345);  // absent: nothing changes
+    same("erase of an absent face");
+    EXPECT_EQ(ring.front(), 10);
+    ring.push_back(5);
+    expected.push_back(5);
+    std::sort(ring.begin(), ring.end());
+    std::sort(expected.begin(), expected.end());
+    same("sort");
+    ring.clear();
+    expected.clear();
+    same("clear");
+    EXPECT_TRUE(ring.empty());
 }
 
 }  // namespace

@@ -144,6 +144,15 @@ TEST_P(TreeQueries, MatchBruteForce) {
                                                              corner(mesh, from_near.face, 1),
                                                              corner(mesh, from_near.face, 2)));
         EXPECT_EQ(tree.closest_point(q, hit.face).squared_distance, hit.squared_distance);
+        // Within a radius: some face within it; beyond: the exact answer.
+        for (const double radius2 : {0.0, 0.5 * hit.squared_distance, hit.squared_distance, 4 * hit.squared_distance}) {
+            const ClosestPoint found = tree.closest_point_beyond(q, near_face, radius2);
+            EXPECT_EQ(found.squared_distance, (found.point - q).squaredNorm());
+            if (hit.squared_distance > radius2)
+                EXPECT_EQ(found.squared_distance, hit.squared_distance) << "query " << q.transpose();
+            else
+                EXPECT_LE(found.squared_distance, radius2) << "query " << q.transpose();
+        }
     }
 }
 
@@ -305,6 +314,30 @@ TEST(Hausdorff, BitIdenticalAcrossRunsAndThreadCounts) {
     }
     omp_set_num_threads(initial);
     EXPECT_GT(serial.forward, 0);
+}
+
+// Without the mean, samples that cannot raise the maximum stop their search early: the same
+// maxima to the bit, and on the shapes where the distance is set by few samples.
+TEST(Hausdorff, WithoutTheMeanTheMaximaAreTheSame) {
+    const TriangleMesh sphere = make_icosphere(4);
+    TriangleMesh noisy = sphere, bumped = sphere;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> noise(-0.01, 0.01);
+    for (Eigen::Index i = 0; i < noisy.V.size(); ++i) noisy.V.data()[i] += noise(rng);
+    bumped.V.row(17) *= 1.3;  // one spike sets the distance
+    const int initial = omp_get_max_threads();
+    for (const auto& [name, b] : {std::pair{"noisy", &noisy}, std::pair{"bumped", &bumped}})
+        for (int threads : {1, 2}) {
+            omp_set_num_threads(threads);
+            const HausdorffReport full = hausdorff_distance(sphere, *b);
+            HausdorffReport maxima = hausdorff_distance(sphere, *b, {.mean = false});
+            EXPECT_TRUE(std::isnan(maxima.mean_forward)) << name;
+            maxima.mean_forward = full.mean_forward;
+            expect_identical(maxima, full, std::string(name) + ", " + std::to_string(threads) + " threads");
+            EXPECT_GT(full.forward, 0) << name;
+        }
+    omp_set_num_threads(initial);
+    EXPECT_NEAR(hausdorff_distance(sphere, bumped, {.mean = false}).backward, 0.3, 1e-12);
 }
 
 // A sphere with a cap pushed out: the edit is measured on the cap's faces only, and gives the

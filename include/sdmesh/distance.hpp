@@ -49,6 +49,11 @@ public:
     /// distance. On ties the face (and point) may differ from closest_point(query)'s.
     /// \pre near_face in [0, num_faces()).
     [[nodiscard]] ClosestPoint closest_point(const Eigen::Vector3d& query, int near_face) const;
+    /// closest_point(query, near_face) when it is farther than `squared_radius`; otherwise the
+    /// search may stop at the first face found within it, whose point and distance are returned
+    /// (for "can this query be farther than r?" at a fraction of the cost).
+    [[nodiscard]] ClosestPoint closest_point_beyond(const Eigen::Vector3d& query, int near_face,
+                                                    double squared_radius) const;
 
     /// Bounding box of the mesh's faces (unreferenced vertices excluded).
     [[nodiscard]] const Eigen::AlignedBox3d& bounds() const { return nodes_.front().box; }
@@ -72,8 +77,9 @@ private:
     static int subtree_nodes(int faces);
     // The subtree over order[begin, end) at nodes_[index], and its subtrees after it.
     void build(std::vector<int>& order, const std::vector<Eigen::Vector3d>& centroid, int begin, int end, int index);
-    // The nearest point of the faces that are nearer than `best`, else best.
-    [[nodiscard]] ClosestPoint search(const Eigen::Vector3d& query, ClosestPoint best) const;
+    // The nearest point of the faces that are nearer than `best`, else best; or the first point
+    // found within `enough` (squared).
+    [[nodiscard]] ClosestPoint search(const Eigen::Vector3d& query, ClosestPoint best, double enough = -1) const;
 
     std::vector<Node> nodes_;
     std::vector<Triangle> triangles_;  // in leaf order
@@ -89,6 +95,11 @@ struct HausdorffOptions {
     /// Budget of samples on each mesh; k is lowered until vertices + faces·(k² + 3) fits, but never
     /// below k = 1. Default 10 million.
     long long max_samples = 10'000'000;
+    /// Compute HausdorffReport::mean_forward. Without it (NaN then), the search of a sample stops
+    /// at the first face within the largest distance found so far, as the sample cannot raise it:
+    /// the same maxima, bit for bit, in about half the time (igea against its decimation to 10 %:
+    /// 2.9 → 1.45 s, of which 0.33 s build the trees). Conversion and decimation measure so.
+    bool mean = true;
 };
 
 /// Result of hausdorff_distance. Sampled values never exceed the true ones, but for the height
@@ -101,7 +112,8 @@ struct HausdorffReport {
     double hausdorff = 0;      ///< max(forward, backward)
     double diagonal = 0;       ///< bounding-box diagonal of A's faces
     double hausdorff_rel = 0;  ///< hausdorff / diagonal (0 when hausdorff is 0)
-    double mean_forward = 0;   ///< area-weighted mean of dist(x, B) over A's face-interior samples
+    double mean_forward = 0;   ///< area-weighted mean of dist(x, B) over A's face-interior samples (NaN
+                               ///< without HausdorffOptions::mean)
     long long samples = 0;     ///< samples taken on A and B together
 };
 

@@ -380,7 +380,7 @@ ConversionResult convert(const TriangleMesh& mesh, const ConvertOptions& options
         if (options.progress && options.measure_hausdorff)
             std::fprintf(stderr, "convert: measuring the Hausdorff distance to the input\n");
         // A few samples per face: the flips change the surface by a fraction of an edge length.
-        const HausdorffOptions sampling{.samples_per_face = 4, .max_samples = 4'000'000};
+        const HausdorffOptions sampling{.samples_per_face = 4, .max_samples = 4'000'000, .mean = false};
         report.hausdorff_rel =
             !options.measure_hausdorff ? std::numeric_limits<double>::quiet_NaN()
             : split_may_move           ? hausdorff_distance(mesh, result.mesh, sampling).hausdorff_rel

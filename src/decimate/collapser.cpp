@@ -537,7 +537,7 @@ void Collapser::collapse(int p, int q, const Vec3& x) {
         if (across_p >= 0) mesh_.twin[across_p] = across_q;
         if (across_q >= 0) mesh_.twin[across_q] = across_p;
         mesh_.face_alive[f] = 0;
-        for (int v : mesh_.corner[f]) std::erase(mesh_.vertex_faces[v], f);
+        for (int v : mesh_.corner[f]) mesh_.vertex_faces[v].erase(f);
     }
     for (int f : mesh_.vertex_faces[q]) {
         for (int& v : mesh_.corner[f])

@@ -143,7 +143,7 @@ void FlatFlips::apply(MeshState& mesh, std::vector<std::pair<int, int>>& flipped
     changed.clear();
     for (const Face& f : faces_) {
         if (f.v == f.before) continue;
-        for (int v : f.before) std::erase(mesh.vertex_faces[v], f.id);
+        for (int v : f.before) mesh.vertex_faces[v].erase(f.id);
         mesh.corner[f.id] = f.v;
         for (int v : f.v) mesh.vertex_faces[v].push_back(f.id);
         changed.insert(changed.end(), f.before.begin(), f.before.end());
