@@ -291,9 +291,9 @@ std::optional<Vec3> Collapser::region_minimum(const Quadric& q, const Eigen::Mat
     std::optional<Vec3> best;
     double best_cost = std::numeric_limits<double>::infinity();
     auto consider = [&](const Vec3& x) {
-        if (!x.allFinite() || !inside(region, x, slack)) return;
-        const double cost = q(x);
-        if (cost < best_cost) best_cost = cost, best = x;
+        if (!x.allFinite()) return;
+        const double cost = q(x);  // before the region's test: a dearer point needs none
+        if (cost < best_cost && inside(region, x, slack)) best_cost = cost, best = x;
     };
     // Minimise q subject to n_iᵀx = c_i (i active): x = x* + A⁻¹Nλ, (NᵀA⁻¹N)λ = c - Nᵀx*.
     for (int i : violated) {
