@@ -1,5 +1,6 @@
 #include "constant_modes.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -18,6 +19,10 @@ Eigen::VectorXd ConstantModes::vector(int j) const {
 }
 
 void ConstantModes::project_out(Eigen::Ref<Eigen::MatrixXd> X) const {
+    if (one_covering_all) {
+        X.rowwise() -= (column_mass.transpose() * X) / mass[0];
+        return;
+    }
     const auto n = static_cast<Eigen::Index>(mode_of.size());
     Eigen::VectorXd mean(count());
     for (Eigen::Index c = 0; c < X.cols(); ++c) {
@@ -65,6 +70,7 @@ ConstantModes constant_modes(const Sparse& L, const Sparse& M) {
         for (Sparse::InnerIterator it(M, j); it; ++it) modes.column_mass[j] += it.value();
         modes.mass[modes.mode_of[j]] += modes.column_mass[j];
     }
+    modes.one_covering_all = count == 1 && std::all_of(modes.mode_of.begin(), modes.mode_of.end(), [](int m) { return m == 0; });
     return modes;
 }
 

@@ -18,6 +18,7 @@ struct ConstantModes {
     std::vector<int> mode_of;     ///< per unknown: the index of its component's mode, or -1
     Eigen::VectorXd column_mass;  ///< per unknown: the sum of M's column (1ᵀ M e_j)
     Eigen::VectorXd mass;         ///< per mode: 1ᵀ M 1 over its component
+    bool one_covering_all = false;  ///< one mode, of every unknown (a connected mesh): vector products
 
     [[nodiscard]] int count() const { return static_cast<int>(mass.size()); }
     /// Mode j as an M-normalised column.

@@ -26,6 +26,7 @@
 #include "sdmesh/shapes.hpp"
 
 #include "block_lanczos.hpp"      // white-box: the Lanczos path on a problem eigenpairs solves densely
+#include "constant_modes.hpp"     // white-box: its two ways of projecting
 #include "symmetric_product.hpp"  // white-box: against Eigen's product
 
 namespace sdmesh {
@@ -330,6 +331,27 @@ TEST(Components, OneZeroEigenvaluePerComponent) {
             EXPECT_EQ((phi.array() != 0).count(), half) << what;
         }
     }
+}
+
+// A connected mesh has one mode over every unknown, projected out by vector products; the general
+// loop over components gives the same columns, each M-orthogonal to the constant function.
+TEST(Components, OneModeOverEveryUnknownProjectsAsTheGeneralLoop) {
+    const Triangulation t = Triangulation::from_mesh(make_icosphere(3));
+    const Sparse L = cotan_laplacian(t), M = mass_matrix(t, MassType::barycentric);
+    detail::ConstantModes modes = detail::constant_modes(L, M);
+    ASSERT_EQ(modes.count(), 1);
+    ASSERT_TRUE(modes.one_covering_all);
+    const Eigen::MatrixXd X = Eigen::MatrixXd::Random(L.rows(), 5) + Eigen::MatrixXd::Constant(L.rows(), 5, 3.0);
+    Eigen::MatrixXd fast = X, general = X;
+    modes.project_out(fast);
+    modes.one_covering_all = false;
+    modes.project_out(general);
+    EXPECT_LE((fast - general).cwiseAbs().maxCoeff(), 1e-14 * X.cwiseAbs().maxCoeff());
+    const Eigen::VectorXd ones = Eigen::VectorXd::Ones(L.rows());
+    EXPECT_LE((ones.transpose() * M * fast).cwiseAbs().maxCoeff(), 1e-13 * (ones.transpose() * M * X).cwiseAbs().maxCoeff());
+    // Two spheres: two modes, and the general loop.
+    const Triangulation two = Triangulation::from_mesh(side_by_side({make_icosphere(1), make_icosphere(1)}));
+    EXPECT_FALSE(detail::constant_modes(cotan_laplacian(two), mass_matrix(two, MassType::barycentric)).one_covering_all);
 }
 
 // A soup of 1,000 separate triangles (as CAD exports write them), of sizes 0.1 to 10, has 1,000
