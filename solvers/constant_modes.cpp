@@ -70,7 +70,8 @@ ConstantModes constant_modes(const Sparse& L, const Sparse& M) {
         for (Sparse::InnerIterator it(M, j); it; ++it) modes.column_mass[j] += it.value();
         modes.mass[modes.mode_of[j]] += modes.column_mass[j];
     }
-    modes.one_covering_all = count == 1 && std::all_of(modes.mode_of.begin(), modes.mode_of.end(), [](int m) { return m == 0; });
+    modes.one_covering_all =
+        count == 1 && std::all_of(modes.mode_of.begin(), modes.mode_of.end(), [](int m) { return m == 0; });
     return modes;
 }
 

@@ -258,10 +258,9 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     if (report.collapses > 0) {
         if (options.measure_hausdorff) announce("measuring the Hausdorff distance to the input");
         // A few samples per face of the input: the output's faces are larger, and sampled densely.
-        report.hausdorff_rel =
-            options.measure_hausdorff
-                ? hausdorff_distance(mesh, result.mesh, {.samples_per_face = 4, .max_samples = 4'000'000, .mean = false}).hausdorff_rel
-                : std::numeric_limits<double>::quiet_NaN();
+        const HausdorffOptions sampling{.samples_per_face = 4, .max_samples = 4'000'000, .mean = false};
+        report.hausdorff_rel = options.measure_hausdorff ? hausdorff_distance(mesh, result.mesh, sampling).hausdorff_rel
+                                                         : std::numeric_limits<double>::quiet_NaN();
     }
     report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return result;
