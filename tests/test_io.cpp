@@ -900,7 +900,10 @@ TEST(Off, MalformedInputIsParseError) {
     expect_parse_error("OFF\n3 1 0\n" + vertices + "3 0 1 -1\n", MeshFormat::off, "test:6:", "-1");
     expect_parse_error("OFF\n3 1 0\n" + vertices + "2 0 1\n", MeshFormat::off, "test:6:", "2 corners");
     expect_parse_error("OFF\n3 1 0\n" + vertices + "4 0 1 2\n", MeshFormat::off, "test:6:");
-    expect_parse_error("OFF\n3 1 0\n" + vertices + "1000000000 0 1 2\n", MeshFormat::off, "test:6:");
+    expect_parse_error("OFF\n3 1 0\n" + vertices + "1000000000 0 1 2\n", MeshFormat::off, "test:6:",
+                       "face of 1000000000 corners: the 7 bytes left in the file cannot hold them");
+    expect_parse_error("OFF\n3 1 0\n" + vertices + "-3 0 1 2\n", MeshFormat::off, "test:6:",
+                       "negative number of face corners -3");
     expect_parse_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n", MeshFormat::off, "test:5:");
     // Counts the file cannot hold are a truncation error, not a huge allocation.
     expect_parse_error("OFF\n2000000000 2000000000 0\n0 0 0\n", MeshFormat::off, "test:4:");

@@ -91,8 +91,10 @@ private:
         }
         const long long n = in_.read_integer("number of face corners");
         // Each corner takes at least 2 bytes: bounds the allocation below.
-        if (n < 0 || n > static_cast<long long>(in_.remaining() / 2)) {
-            in_.fail("face with an impossible number of corners " + std::to_string(n));
+        if (n < 0) in_.fail("negative number of face corners " + std::to_string(n));
+        if (n > static_cast<long long>(in_.remaining() / 2)) {
+            in_.fail("face of " + std::to_string(n) + " corners: the " + std::to_string(in_.remaining()) +
+                     " bytes left in the file cannot hold them");
         }
         corners_.clear();
         for (long long k = 0; k < n; ++k) {
