@@ -263,33 +263,70 @@ Eigenpairs with_constant_modes(const Eigenpairs& found, const detail::ConstantMo
 // residuals of 6.4e-5 (both found by fuzz_pipeline).
 constexpr int kMaxDenseUnknowns = 400;
 
-// All pairs of the dense problem, the k smallest kept (exact to rounding, M-orthonormal). Modes
-// to leave out are moved above the rest of the spectrum: L + μ (MZ)(MZ)ᵀ, Z the M-normalised
-// modes, has them at μ and every pair M-orthogonal to them unchanged, and μ = 1 + 2‖M⁻¹L‖_F
-// exceeds every eigenvalue. (A basis of their complement instead made an ill-conditioned mass
-// matrix: on a soup with vertex areas from 4e-3 to 2.5e9, ΦᵀMΦ − I of 1.8e-8.)
+// All pairs of the dense problem, the k smallest kept (exact to rounding, M-orthonormal), one
+// block at a time: each component with a mode, then the other unknowns together (L and M have
+// no entries between blocks). Solved whole, a component of tiny area had spoilt the others: the
+// solver scales by M^(-1/2), so its errors are of the order of the largest eigenvalue, which
+// such a component makes huge; beside a sphere 1e-9 across, the sphere's pairs came out with an
+// eigenvalue of -7,443 (`Components.ATinyComponentKeepsEveryResidualSmall`). A block's mode is
+// moved above the rest of its spectrum: L + μ (MZ)(MZ)ᵀ, Z the M-normalised mode, has it at μ and
+// every pair M-orthogonal to it unchanged, and μ = 1 + 2‖M⁻¹L‖_F exceeds every eigenvalue, so it
+// is the block's last pair, left out. (A basis of the modes' complement instead made an
+// ill-conditioned mass matrix: on a soup with vertex areas from 4e-3 to 2.5e9, ΦᵀMΦ − I of 1.8e-8.)
 Eigenpairs dense_eigenpairs(const Sparse& L, const Sparse& M, int k, const detail::ConstantModes* deflated,
                             EigenReport& report) {
-    Eigen::MatrixXd A(L);
-    const Eigen::MatrixXd B(M);
-    if (deflated != nullptr) {
-        Eigen::MatrixXd MZ(L.rows(), deflated->count());
-        for (int j = 0; j < deflated->count(); ++j) MZ.col(j) = M * deflated->vector(j);
-        const double above = 1 + 2 * B.llt().solve(A).norm();
-        A.selfadjointView<Eigen::Lower>().rankUpdate(MZ, above);
-        A.triangularView<Eigen::StrictlyUpper>() = A.transpose();
+    const int n = static_cast<int>(L.rows());
+    const int modes = deflated != nullptr ? deflated->count() : 0;
+    std::vector<std::vector<int>> blocks(static_cast<size_t>(modes) + 1);
+    for (int i = 0; i < n; ++i) {
+        const int mode = deflated != nullptr ? deflated->mode_of[static_cast<size_t>(i)] : -1;
+        blocks[static_cast<size_t>(mode >= 0 ? mode : modes)].push_back(i);
     }
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense{A, B};
-    if (dense.info() != Eigen::Success)
-        throw NumericalError("eigenpairs: the dense solve failed (M not positive definite?)");
+    const Eigen::MatrixXd dense_L(L), dense_M(M);
+    struct Pair {
+        double value;
+        int block, column;
+    };
+    std::vector<Pair> found;
+    std::vector<Eigen::MatrixXd> vectors(blocks.size());
+    for (int b = 0; b < static_cast<int>(blocks.size()); ++b) {
+        const std::vector<int>& rows = blocks[static_cast<size_t>(b)];
+        if (rows.empty()) continue;
+        Eigen::MatrixXd A = dense_L(rows, rows);
+        const Eigen::MatrixXd B = dense_M(rows, rows);
+        const bool has_mode = b < modes;
+        if (has_mode) {
+            const Eigen::VectorXd MZ = B * Eigen::VectorXd(deflated->vector(b)(rows));
+            const double above = 1 + 2 * B.llt().solve(A).norm();
+            A.selfadjointView<Eigen::Lower>().rankUpdate(MZ, above);
+            A.triangularView<Eigen::StrictlyUpper>() = A.transpose();
+        }
+        const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense{A, B};
+        if (dense.info() != Eigen::Success)
+            throw NumericalError("eigenpairs: the dense solve failed (M not positive definite?)");
+        const int kept = static_cast<int>(rows.size()) - (has_mode ? 1 : 0);
+        for (int c = 0; c < kept; ++c) found.push_back({dense.eigenvalues()[c], b, c});
+        vectors[static_cast<size_t>(b)] = dense.eigenvectors();
+    }
+    std::stable_sort(found.begin(), found.end(), [](const Pair& x, const Pair& y) { return x.value < y.value; });
+    Eigenpairs pairs{Eigen::VectorXd(k), Eigen::MatrixXd::Zero(n, k)};
+    for (int j = 0; j < k; ++j) {
+        const Pair& p = found[static_cast<size_t>(j)];
+        pairs.values[j] = p.value;
+        const std::vector<int>& rows = blocks[static_cast<size_t>(p.block)];
+        pairs.vectors.col(j)(rows) = vectors[static_cast<size_t>(p.block)].col(p.column);
+    }
     report.status = EigenStatus::converged;
-    return {dense.eigenvalues().head(k), dense.eigenvectors().leftCols(k)};
+    return pairs;
 }
 
-// The report's accuracy: the largest relative residual ‖Lφ − λMφ‖ / (max(|λ|, |σ|) ‖Mφ‖) and the
-// largest entry of ΦᵀMΦ − I (of its lower triangle, computed alone). Blocks of columns, two side
-// by side, each thread reusing its products' storage (fresh pages are slow to touch); maxima do
-// not depend on the order.
+// The report's accuracy: the largest relative residual and the largest entry of ΦᵀMΦ − I (of
+// its lower triangle, computed alone). A residual is ‖Lφ − λMφ‖ / (max(|λ|, |σ|) ‖Mφ‖), but
+// ‖Lφ‖ / ‖|L||φ|‖ for λ = 0 exactly (the components' constant modes): there the eigenvalue gives
+// no scale, and Lφ is the rounding of L's row sums, which over |σ| ‖Mφ‖ grows without bound as a
+// component's area shrinks (1e8 for 0 on a whiteboard's sliver of area 1.5e-11). Blocks of
+// columns, two side by side, each thread reusing its products' storage (fresh pages are slow to
+// touch); maxima do not depend on the order.
 void measure_accuracy(const Sparse& L, const Sparse& M, const Eigen::VectorXd& values, const Eigen::MatrixXd& phi,
                       EigenReport& report) {
     constexpr Eigen::Index kBlock = 8;
@@ -297,6 +334,8 @@ void measure_accuracy(const Sparse& L, const Sparse& M, const Eigen::VectorXd& v
     const detail::MassProduct mass(M);
     Eigen::VectorXd residual(k);
     Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(k, k);  // ΦᵀMΦ, lower triangle
+    const bool zeros = (values.array() == 0).any();
+    const Sparse absolute_L = zeros ? Sparse(L.cwiseAbs()) : Sparse();
 #pragma omp parallel num_threads(2)
     {
         Eigen::MatrixXd L_phi(n, std::min(kBlock, k)), M_phi(n, std::min(kBlock, k));
@@ -307,6 +346,12 @@ void measure_accuracy(const Sparse& L, const Sparse& M, const Eigen::VectorXd& v
             mass.apply(phi.middleCols(first, width), M_phi.leftCols(width));
             for (Eigen::Index j = 0; j < width; ++j) {
                 const double lambda = values[first + j];
+                if (lambda == 0) {
+                    const Eigen::VectorXd terms = absolute_L * phi.col(first + j).cwiseAbs();
+                    const double size = terms.norm();  // 0: φ lives on rows of L that are all 0
+                    residual[first + j] = size > 0 ? L_phi.col(j).norm() / size : 0.0;
+                    continue;
+                }
                 const double scale = std::max(std::abs(lambda), std::abs(report.sigma)) * M_phi.col(j).norm();
                 residual[first + j] = (L_phi.col(j) - lambda * M_phi.col(j)).norm() / scale;
             }

@@ -81,7 +81,9 @@ struct EigenReport {
     int iterations = 0;        ///< Lanczos restarts (spectra_lanczos) or block steps (block_lanczos)
     int solves = 0;            ///< applications of (L − σM)⁻¹, the dominant cost
     double sigma = 0;          ///< the shift used
-    double max_residual = 0;   ///< max over pairs of ‖Lφ − λMφ‖ / (max(|λ|, |σ|) · ‖Mφ‖)
+    /// max over pairs of ‖Lφ − λMφ‖ / (max(|λ|, |σ|) · ‖Mφ‖); for λ = 0 exactly (the constant
+    /// functions of components), ‖Lφ‖ / ‖|L||φ|‖: the row sums' rounding against their terms
+    double max_residual = 0;
     double max_orthogonality_error = 0;  ///< max |ΦᵀMΦ − I| entry
     double seconds = 0;        ///< wall time, factorization included
 };
