@@ -304,13 +304,14 @@ Eigenpairs dense_eigenpairs(const Sparse& L, const Sparse& M, int k, const detai
         const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense{A, B};
         if (dense.info() != Eigen::Success)
             throw NumericalError("eigenpairs: the dense solve failed (M not positive definite?)");
-        const int kept = static_cast<int>(rows.size()) - (has_mode ? 1 : 0);
-        for (int c = 0; c < kept; ++c) found.push_back({dense.eigenvalues()[c], b, c});
+        const int block_pairs = static_cast<int>(rows.size()) - (has_mode ? 1 : 0);
+        for (int c = 0; c < block_pairs; ++c) found.push_back({dense.eigenvalues()[c], b, c});
         vectors[static_cast<size_t>(b)] = dense.eigenvectors();
     }
     std::stable_sort(found.begin(), found.end(), [](const Pair& x, const Pair& y) { return x.value < y.value; });
-    Eigenpairs pairs{Eigen::VectorXd(k), Eigen::MatrixXd::Zero(n, k)};
-    for (int j = 0; j < k; ++j) {
+    const int kept = std::min(k, static_cast<int>(found.size()));
+    Eigenpairs pairs{Eigen::VectorXd(kept), Eigen::MatrixXd::Zero(n, kept)};
+    for (int j = 0; j < kept; ++j) {
         const Pair& p = found[static_cast<size_t>(j)];
         pairs.values[j] = p.value;
         const std::vector<int>& rows = blocks[static_cast<size_t>(p.block)];
