@@ -35,6 +35,17 @@ void ConstantModes::project_out(Eigen::Ref<Eigen::MatrixXd> X) const {
     }
 }
 
+std::vector<int> ConstantModes::lost_shift(const Sparse& L, double s) const {
+    const Eigen::VectorXd diagonal = L.diagonal();
+    Eigen::VectorXd stiffness = Eigen::VectorXd::Zero(count()), unknowns = Eigen::VectorXd::Zero(count());
+    for (Eigen::Index i = 0; i < diagonal.size(); ++i)
+        if (mode_of[i] >= 0) stiffness[mode_of[i]] += diagonal[i], unknowns[mode_of[i]] += 1;
+    std::vector<int> lost;
+    for (int j = 0; j < count(); ++j)
+        if (s * mass[j] < kLostShift * stiffness[j] / unknowns[j]) lost.push_back(j);
+    return lost;
+}
+
 ConstantModes constant_modes(const Sparse& L, const Sparse& M) {
     const int n = static_cast<int>(L.rows());
     UnionFind components(n);
@@ -59,7 +70,10 @@ ConstantModes constant_modes(const Sparse& L, const Sparse& M) {
     for (int v = 0; v < n; ++v) {
         const int root = components.find(v);
         if (!qualifies[root]) continue;
-        if (mode_of_root[root] < 0) mode_of_root[root] = count++;
+        if (mode_of_root[root] < 0) {
+            mode_of_root[root] = count++;
+            modes.first.push_back(v);
+        }
         modes.mode_of[v] = mode_of_root[root];
     }
     // Column sums: M's columns lie inside their component.

@@ -18,6 +18,7 @@ struct ConstantModes {
     std::vector<int> mode_of;     ///< per unknown: the index of its component's mode, or -1
     Eigen::VectorXd column_mass;  ///< per unknown: the sum of M's column (1ᵀ M e_j)
     Eigen::VectorXd mass;         ///< per mode: 1ᵀ M 1 over its component
+    std::vector<int> first;       ///< per mode: the lowest unknown of its component
     bool one_covering_all = false;  ///< one mode, of every unknown (a connected mesh): vector products
 
     [[nodiscard]] int count() const { return static_cast<int>(mass.size()); }
@@ -26,7 +27,18 @@ struct ConstantModes {
     /// X ← X − Z Zᵀ M X, with Z the M-normalised modes: each column M-orthogonal to every mode.
     /// O(n) per column: a mode's coefficient is the sum of column_mass · x over its component.
     void project_out(Eigen::Ref<Eigen::MatrixXd> X) const;
+    /// The modes whose component's L + sM (s > 0: −σ for eigenpairs, 1/t for heat) is L within
+    /// rounding, singular along the mode: a component far smaller than the mesh whose s is set
+    /// for (beside a unit sphere, one 1e-9 across failed to factor in both). s M is lost there
+    /// when s·1ᵀM1 over the component is below kLostShift of its mean diagonal entry of L (about
+    /// s over its smallest non-zero eigenvalue, so the bound does not shrink with its vertex
+    /// count). Pinning one unknown to 0 then makes the matrix definite, and the solution is
+    /// exact but for its part along the mode (and errors of about that share elsewhere), which
+    /// the caller restores: deflation (eigenpairs), conservation of 1ᵀMu (heat).
+    [[nodiscard]] std::vector<int> lost_shift(const Eigen::SparseMatrix<double>& L, double s) const;
 };
+
+inline constexpr double kLostShift = 1e-8;
 
 /// The components of the graph of L's and M's off-diagonal non-zeros on which L's rows sum to
 /// zero (each within 8·ε·(row entries) of the sum of their magnitudes), numbered by their lowest

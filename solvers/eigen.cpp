@@ -41,20 +41,42 @@ constexpr std::string_view kShiftedMatrix = "eigenpairs: L - sigma M";
 // L is positive semidefinite and sigma negative, so only rounding, or a sigma too near 0 for it, can fail.
 const std::string kShiftAdvice = "a sigma further below 0 can help; " + std::string(detail::kIndefiniteMeshAdvice);
 
+// The modes Lanczos leaves out (constant_modes.hpp), and the lowest unknown of each of their
+// components on which L − σM is L within rounding (ConstantModes::lost_shift), pinned to 0 in the
+// factorization: the solves there are then exact but for their part along the mode, which is
+// removed anyway.
+struct Deflation {
+    const detail::ConstantModes& modes;
+    std::vector<int> grounded;
+
+    // The solves' columns (or any) M-orthogonal to the modes: the pinned rows, which a solve
+    // gives the right-hand side's values, become 0 first.
+    void apply(Eigen::Ref<Eigen::MatrixXd> X) const {
+        for (const int i : grounded) X.row(i).setZero();
+        modes.project_out(X);
+    }
+};
+
+Sparse shifted_matrix(const Sparse& L, const Sparse& M, double sigma, const Deflation* deflation) {
+    Sparse A = L - sigma * M;
+    if (deflation != nullptr) detail::Pins(static_cast<int>(A.rows()), deflation->grounded, "eigenpairs").apply(A);
+    return A;
+}
+
 // y = (L − σM)⁻¹ x for Spectra's shift-invert mode, on a CHOLMOD factor built when Spectra sets
-// the shift, deflated (see BlockLanczosOptions::deflate). Counts the solves for the report.
+// the shift, deflated. Counts the solves for the report.
 class ShiftInvertOp {
 public:
     using Scalar = double;
 
-    ShiftInvertOp(const Sparse& L, const Sparse& M, const detail::ConstantModes* deflated, int& solves)
-        : L_(L), M_(M), deflated_(deflated), solves_(solves) {}
+    ShiftInvertOp(const Sparse& L, const Sparse& M, const Deflation* deflation, int& solves)
+        : L_(L), M_(M), deflation_(deflation), solves_(solves) {}
 
     [[nodiscard]] Eigen::Index rows() const { return L_.rows(); }
     [[nodiscard]] Eigen::Index cols() const { return L_.cols(); }
 
     void set_shift(double sigma) {
-        const Sparse shifted = L_ - sigma * M_;
+        const Sparse shifted = shifted_matrix(L_, M_, sigma, deflation_);
         solver_ = detail::explained(kShiftedMatrix, kShiftAdvice, [&] { return CholeskySolver(shifted); });
     }
 
@@ -62,14 +84,14 @@ public:
         const Eigen::Index n = rows();
         Eigen::Map<Eigen::VectorXd> y(y_out, n);
         y = solver_.solve(Eigen::Map<const Eigen::VectorXd>(x_in, n));
-        if (deflated_ != nullptr) deflated_->project_out(y);
+        if (deflation_ != nullptr) deflation_->apply(y);
         ++solves_;
     }
 
 private:
     const Sparse& L_;
     const Sparse& M_;
-    const detail::ConstantModes* deflated_;
+    const Deflation* deflation_;
     int& solves_;
     CholeskySolver solver_;
 };
@@ -144,14 +166,14 @@ struct Eigenpairs {
 // rounding and gives each pair its Rayleigh quotient. Products with L and M run over a few
 // columns at a time, so no further n x k matrix is made (their first touch is slow).
 Eigenpairs spectra_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, int basis, const EigenOptions& options,
-                              const detail::ConstantModes* deflated, EigenReport& report) {
-    ShiftInvertOp op(L, M, deflated, report.solves);
+                              const Deflation* deflation, EigenReport& report) {
+    ShiftInvertOp op(L, M, deflation, report.solves);
     Spectra::SparseSymMatProd<double> mass_op(M);
     Spectra::SymGEigsShiftSolver<ShiftInvertOp, Spectra::SparseSymMatProd<double>, Spectra::GEigsMode::ShiftInvert>
         lanczos(op, mass_op, nev, basis, report.sigma);
     try {
         Eigen::VectorXd start = Spectra::SimpleRandom<double>(0).random_vec(L.rows());  // as Spectra's init()
-        if (deflated != nullptr) deflated->project_out(start);
+        if (deflation != nullptr) deflation->apply(start);
         lanczos.init(start.data());
         lanczos.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance,
                         Spectra::SortRule::SmallestAlge);
@@ -179,7 +201,7 @@ Eigenpairs spectra_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, 
 // to ~1e-12 already; λ = σ + 1/θ is as accurate as a Rayleigh quotient (both err by the square
 // of the residual).
 Eigenpairs block_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, int basis, const EigenOptions& options,
-                            const detail::ConstantModes* deflated, EigenReport& report) {
+                            const Deflation* deflation, EigenReport& report) {
     const auto start = std::chrono::steady_clock::now();
     if (options.progress)
         std::fprintf(stderr, "eigs: factorizing L - sigma M (n = %ld)\n", static_cast<long>(L.rows()));
@@ -188,11 +210,11 @@ Eigenpairs block_eigenpairs(const Sparse& L, const Sparse& M, int k, int nev, in
                                                 .max_columns = basis,
                                                 .tolerance = options.tolerance,
                                                 .progress = options.progress};
-    if (deflated != nullptr)
-        lanczos_options.deflate = [deflated](Eigen::Ref<Eigen::MatrixXd> X) { deflated->project_out(X); };
+    if (deflation != nullptr)
+        lanczos_options.deflate = [deflation](Eigen::Ref<Eigen::MatrixXd> X) { deflation->apply(X); };
     const detail::BasisShape shape = detail::basis_shape(L.rows(), lanczos_options);
     Eigen::MatrixXd storage(L.rows(), shape.capacity);
-    const Sparse A = L - report.sigma * M;
+    const Sparse A = shifted_matrix(L, M, report.sigma, deflation);
     CholeskySolver factor;
     {
         // CHOLMOD's ordering runs on one thread; the other maps the basis's expected pages
@@ -443,12 +465,15 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     const bool deflate = known > 0 && (dense || lanczos_size(k - known, complement, options).basis < complement);
     const int sought = deflate ? k - known : k;
     const LanczosSize size = lanczos_size(sought, deflate ? complement : n, options);
-    const detail::ConstantModes* deflated = deflate ? &modes : nullptr;
+    Deflation deflation{modes, {}};
+    if (deflate && !dense)
+        for (const int j : modes.lost_shift(L_unit, -report.sigma)) deflation.grounded.push_back(modes.first[j]);
+    const Deflation* deflated = deflate ? &deflation : nullptr;
     if (options.progress && !block && sought > 0)
         std::fprintf(stderr, "eigs: Spectra's Lanczos for %d pairs (n = %d; no lines until it ends)\n", sought, n);
     const auto [nev, basis] = size;
     Eigenpairs pairs = sought == 0 ? Eigenpairs{}
-                       : dense     ? dense_eigenpairs(L_unit, M_unit, sought, deflated, report)
+                       : dense     ? dense_eigenpairs(L_unit, M_unit, sought, deflate ? &modes : nullptr, report)
                        : block     ? block_eigenpairs(L_unit, M_unit, sought, nev, basis, options, deflated, report)
                                    : spectra_eigenpairs(L_unit, M_unit, sought, nev, basis, options, deflated, report);
     if (deflate) pairs = with_constant_modes(pairs, modes, k);

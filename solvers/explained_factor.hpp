@@ -12,8 +12,7 @@ namespace sdmesh::detail {
 /// What makes the operators of a mesh indefinite within rounding.
 inline constexpr std::string_view kIndefiniteMeshAdvice =
     "on a mesh that is not self-Delaunay, negative circumcentric cells and faces of nearly zero area do this, "
-    "and a self-Delaunay mesh (sdmesh convert) avoids it; on any mesh, a component below about 1e-7 of the "
-    "mesh's size does it too";
+    "and a self-Delaunay mesh (sdmesh convert) avoids it";
 
 /// factor(), a factorization of `matrix`; its NumericalError is rethrown as
 /// "<matrix>: <its message>; <advice>".

@@ -12,6 +12,7 @@
 #include "sdmesh/error.hpp"
 #include "sdmesh/geometry.hpp"
 
+#include "constant_modes.hpp"
 #include "explained_factor.hpp"
 #include "free_vertices.hpp"
 #include "number_text.hpp"
@@ -145,22 +146,62 @@ HeatSolver::HeatSolver(const Sparse& L, const Sparse& M, double t, const std::ve
     detail::check_operator_pair(L, M, "heat");
     check_time_step(t, "heat");
     check_time_scale(L, M, t);
-    const detail::Pins pins(static_cast<int>(L.rows()), dirichlet_vertices, "heat");
+    detail::Pins(static_cast<int>(L.rows()), dirichlet_vertices, "heat");  // checks the vertices
     check_no_free_isolated_vertex(L, M, dirichlet_vertices);
     fixed_ = dirichlet_vertices;
     L_ = L;
     M_ = M;
-    Sparse A = M_ + t * L_;
-    pins.apply(A);
+    const Sparse A = pinned_matrix(t);
     solver_ = detail::explained("heat: M + tL", detail::kIndefiniteMeshAdvice, [&] { return CholeskySolver(A, cholesky); });
 }
 
 void HeatSolver::set_time_step(double t) {
     check_time_step(t, "heat");
     check_time_scale(L_, M_, t);
-    Sparse A = M_ + t * L_;
-    detail::Pins(static_cast<int>(L_.rows()), fixed_, "heat").apply(A);
+    const Sparse A = pinned_matrix(t);
     detail::explained("heat: M + tL", detail::kIndefiniteMeshAdvice, [&] { solver_.factorize(A); });
+}
+
+Sparse HeatSolver::pinned_matrix(double t) {
+    const auto n = static_cast<size_t>(L_.rows());
+    const detail::ConstantModes modes = detail::constant_modes(L_, M_);
+    std::vector<char> held(static_cast<size_t>(modes.count()), 0);  // by a Dirichlet vertex
+    for (const int v : fixed_) {
+        const int mode = modes.mode_of[static_cast<size_t>(v)];
+        if (mode >= 0) held[static_cast<size_t>(mode)] = 1;
+    }
+    pinned_ = fixed_;
+    std::vector<int> diffused_of_mode(static_cast<size_t>(modes.count()), -1);
+    std::vector<double> mass;
+    for (const int j : modes.lost_shift(L_, 1 / t)) {
+        if (held[static_cast<size_t>(j)]) continue;
+        diffused_of_mode[static_cast<size_t>(j)] = static_cast<int>(mass.size());
+        mass.push_back(modes.mass[j]);
+        pinned_.push_back(modes.first[static_cast<size_t>(j)]);
+    }
+    diffused_mass_ = Eigen::Map<const Eigen::VectorXd>(mass.data(), static_cast<Eigen::Index>(mass.size()));
+    diffused_of_.clear();
+    if (!mass.empty()) {
+        diffused_of_.resize(n);
+        for (size_t v = 0; v < n; ++v) {
+            const int mode = modes.mode_of[v];
+            diffused_of_[v] = mode >= 0 ? diffused_of_mode[static_cast<size_t>(mode)] : -1;
+        }
+    }
+    Sparse A = M_ + t * L_;
+    detail::Pins(static_cast<int>(n), pinned_, "heat").apply(A);
+    return A;
+}
+
+void HeatSolver::restore_conserved_heat(const Eigen::VectorXd& b, Eigen::VectorXd& u) const {
+    if (diffused_of_.empty()) return;
+    const Eigen::VectorXd Mu = M_ * u;
+    const auto n = static_cast<Eigen::Index>(diffused_of_.size());
+    Eigen::VectorXd missing = Eigen::VectorXd::Zero(diffused_mass_.size());
+    for (Eigen::Index v = 0; v < n; ++v)
+        if (const int c = diffused_of_[static_cast<size_t>(v)]; c >= 0) missing[c] += b[v] - Mu[v];
+    for (Eigen::Index v = 0; v < n; ++v)
+        if (const int c = diffused_of_[static_cast<size_t>(v)]; c >= 0) u[v] += missing[c] / diffused_mass_[c];
 }
 
 Eigen::VectorXd HeatSolver::step(const Eigen::VectorXd& u0, int steps) const {
@@ -168,7 +209,11 @@ Eigen::VectorXd HeatSolver::step(const Eigen::VectorXd& u0, int steps) const {
     if (steps < 0) throw InvalidArgumentError("heat: steps must be >= 0, got " + std::to_string(steps));
     Eigen::VectorXd u = u0;
     for (int v : fixed_) u[v] = 0;
-    for (int s = 0; s < steps; ++s) u = solver_.solve(detail::pinned_rhs(M_ * u, fixed_, Sparse(), Eigen::VectorXd()));
+    for (int s = 0; s < steps; ++s) {
+        const Eigen::VectorXd b = M_ * u;
+        u = solver_.solve(detail::pinned_rhs(b, pinned_, Sparse(), Eigen::VectorXd()));
+        restore_conserved_heat(b, u);
+    }
     return u;
 }
 

@@ -388,34 +388,36 @@ TEST(Components, ASoupOfTrianglesGivesExactZeroPairs) {
     }
 }
 
-// A sphere 1e-6 across beside a unit sphere. Its constant function's Lφ is the rounding of L's
-// row sums, which against |σ| ‖Mφ‖ would read as a residual of 5e-3 (0.06 with 642 vertices);
-// against the terms of those sums it is rounding. Its masses of 1e-13 once left errors that the
-// M-norm does not see and L does: the dense solve (n = 204) had residuals of 3.5e-3 (1e-9 across:
-// an eigenvalue of -7,443), block Lanczos started outside the range of (L - σM)⁻¹M (n = 804)
-// 2e-9 (1e-9 across: 1e-7). Smaller still, L - σM is singular within rounding on the tiny sphere,
-// and the factorization may fail.
+// A sphere 1e-6, 1e-9 or 1e-12 across beside a unit sphere. Its constant function's Lφ is the
+// rounding of L's row sums, which against |σ| ‖Mφ‖ would read as a residual of 5e-3 (0.06 with
+// 642 vertices); against the terms of those sums it is rounding. Its masses of 1e-13 once left
+// errors that the M-norm does not see and L does: the dense solve (n = 204) had residuals of
+// 3.5e-3 (1e-9 across: an eigenvalue of -7,443), block Lanczos started outside the range of
+// (L - σM)⁻¹M (n = 804) 2e-9 (1e-9 across: 1e-7). From 1e-9 on, L - σM is singular within
+// rounding on the tiny sphere, whose factorization failed without a pinned vertex there.
 TEST(Components, ATinyComponentKeepsEveryResidualSmall) {
-    for (const int tiny_subdivisions : {1, 3}) {
-        TriangleMesh tiny = make_icosphere(tiny_subdivisions);
-        tiny.V *= 1e-6;
-        const Triangulation t = Triangulation::from_mesh(side_by_side({make_icosphere(2), tiny}));
-        const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
-        for (EigenSolver solver : kBothSolvers) {
-            const std::string what = std::string(to_string(solver)) + ", n = " + std::to_string(L.rows());
-            const EigenResult r = smallest_eigenpairs(L, M, {.k = 5, .solver = solver});
-            expect_accurate(r, what);
-            expect_report_is_honest(r, L, M, what);
-            EXPECT_LE(r.report.max_residual, 1e-11) << what;
-            EXPECT_EQ(r.values[0], 0.0) << what;
-            EXPECT_EQ(r.values[1], 0.0) << what;
-            for (int i = 2; i < 5; ++i) EXPECT_NEAR(r.values[i], 2.0, 0.1) << what;
-            // The second zero pair is the tiny sphere's, and the old measure would fail it.
-            const Eigen::VectorXd phi = r.vectors.col(1);
-            EXPECT_EQ((phi.array() != 0).count(), tiny.V.rows()) << what;
-            EXPECT_GT((L * phi).norm() / (std::abs(r.report.sigma) * (M * phi).norm()), 1e-3) << what;
+    for (const int exponent : {-6, -9, -12})
+        for (const int tiny_subdivisions : {1, 3}) {
+            TriangleMesh tiny = make_icosphere(tiny_subdivisions);
+            tiny.V *= std::pow(10.0, exponent);
+            const Triangulation t = Triangulation::from_mesh(side_by_side({make_icosphere(2), tiny}));
+            const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+            for (EigenSolver solver : kBothSolvers) {
+                const std::string what = std::string(to_string(solver)) + ", n = " + std::to_string(L.rows()) +
+                                         ", size 1e" + std::to_string(exponent);
+                const EigenResult r = smallest_eigenpairs(L, M, {.k = 5, .solver = solver});
+                expect_accurate(r, what);
+                expect_report_is_honest(r, L, M, what);
+                EXPECT_LE(r.report.max_residual, 1e-11) << what;
+                EXPECT_EQ(r.values[0], 0.0) << what;
+                EXPECT_EQ(r.values[1], 0.0) << what;
+                for (int i = 2; i < 5; ++i) EXPECT_NEAR(r.values[i], 2.0, 0.1) << what;
+                // The second zero pair is the tiny sphere's, and the old measure would fail it.
+                const Eigen::VectorXd phi = r.vectors.col(1);
+                EXPECT_EQ((phi.array() != 0).count(), tiny.V.rows()) << what;
+                EXPECT_GT((L * phi).norm() / (std::abs(r.report.sigma) * (M * phi).norm()), 1e-3) << what;
+            }
         }
-    }
 }
 
 // Twelve spheres of radii 1 to 2.1: twelve zero eigenvalues, then the spheres' own l = 1 triples

@@ -348,6 +348,38 @@ TEST(Heat, AVertexInNoFaceIsNamedUnlessItIsPinned) {
     EXPECT_LT((u.head(42) - alone.step(u0.head(42))).norm(), 1e-14);
 }
 
+// A sphere 1e-3, 1e-6 or 1e-9 across beside a unit sphere, t = 0.01: on the small one tL swamps
+// M (from 1e-6 on, to rounding: at 1e-9 the factorization failed). Two steps leave there its
+// mean up to (1/(tλ₁))² (λ₁ = 2/r²) or the error of a solve with one vertex pinned, about M's
+// share of M + tL (below 1e-8 where it is pinned), and conserve the heat, to a rounding that
+// grows with the condition of M + tL (1e-11 at 1e-3) where it is factored as it is; the unit
+// sphere's heat is that of the sphere alone.
+TEST(Heat, AComponentFarSmallerThanTheTimeStepIsSmoothedToItsMean) {
+    for (const int exponent : {-3, -6, -9}) {
+        TriangleMesh tiny = make_icosphere(1);
+        tiny.V *= std::pow(10.0, exponent);
+        const TriangleMesh unit = make_icosphere(2);
+        const Triangulation t = Triangulation::from_mesh(test::disjoint_union(unit, tiny, 3.0));
+        const Sparse L = cotan_laplacian(t), M = mass_matrix(t);
+        const Eigen::Index n = L.rows(), big = unit.V.rows(), small = n - big;
+        const std::string what = "size 1e" + std::to_string(exponent);
+        const HeatSolver heat(L, M, 0.01);
+        Eigen::VectorXd u0 = Eigen::VectorXd::Zero(n);
+        u0[3] = 1;
+        u0[big + 5] = 1;
+        const Eigen::VectorXd u = heat.step(u0, 2);
+        const Eigen::VectorXd on_tiny = u.tail(small);
+        const double heat_in = (M * u0).tail(small).sum();
+        EXPECT_NEAR((M * u).tail(small).sum(), heat_in, (exponent == -3 ? 1e-10 : 1e-14) * heat_in) << what;
+        const double mean = heat_in / M.bottomRightCorner(small, small).sum();
+        const double damping = std::pow(10.0, 2 * exponent) / (2 * 0.01);
+        EXPECT_LE((on_tiny.array() - mean).abs().maxCoeff(), std::max(10 * damping * damping, 1e-8) * mean) << what;
+        const Triangulation sphere = Triangulation::from_mesh(unit);
+        const HeatSolver alone(cotan_laplacian(sphere), mass_matrix(sphere), 0.01);
+        EXPECT_LT((u.head(big) - alone.step(u0.head(big), 2)).norm(), 1e-14) << what;
+    }
+}
+
 // ---- heat-method geodesics ---------------------------------------------------------------------------
 
 // Mean of |d − exact| / exact over the vertices where exact > 0.

@@ -68,7 +68,10 @@ private:
 };
 
 /// Backward Euler for the heat equation u' = Δu: (M + tL) u_{k+1} = M u_k, with u = 0 on the
-/// Dirichlet vertices (Neumann elsewhere).
+/// Dirichlet vertices (Neumann elsewhere). On a component without Dirichlet vertices where tL
+/// swamps M to rounding (one far smaller than √t, e.g. 1e-6 of the mesh beside it), M + tL is
+/// singular within rounding; there one vertex is pinned, and the step is exact up to about M's
+/// share of M + tL (below 1e-8) and conserves the component's heat 1ᵀMu.
 class HeatSolver {
 public:
     /// \throws InvalidArgumentError sizes as PoissonSolver; time step t <= 0 or not finite; as
@@ -86,13 +89,26 @@ public:
     /// \throws InvalidArgumentError u0 of the wrong size, steps < 0.
     [[nodiscard]] Eigen::VectorXd step(const Eigen::VectorXd& u0, int steps = 1) const;
 
-    /// The factorization of M + tL with its Dirichlet rows and columns replaced by the identity's;
-    /// e.g. the same_ordering_as of other solvers on the mesh.
+    /// The factorization of M + tL with its pinned rows and columns (Dirichlet vertices, one per
+    /// component where tL swamps M) replaced by the identity's; e.g. the same_ordering_as of
+    /// other solvers on the mesh.
     [[nodiscard]] const CholeskySolver& factorization() const { return solver_; }
 
 private:
+    // M + tL with the Dirichlet vertices pinned, and the lowest vertex of each component without
+    // one on which tL swamps M to rounding (a component far smaller than the mesh): there the
+    // matrix is singular within rounding, while the step only smooths to the component's mean.
+    // Sets pinned_ and the diffused components.
+    Eigen::SparseMatrix<double> pinned_matrix(double t);
+    // A diffused component's solve is exact up to a constant, set by the heat the step conserves
+    // (1ᵀMu = 1ᵀb, as 1ᵀL = 0).
+    void restore_conserved_heat(const Eigen::VectorXd& b, Eigen::VectorXd& u) const;
+
     Eigen::SparseMatrix<double> L_, M_;
-    std::vector<int> fixed_;
+    std::vector<int> fixed_;         // Dirichlet vertices
+    std::vector<int> pinned_;        // fixed_, then one vertex per diffused component
+    std::vector<int> diffused_of_;   // per vertex: its diffused component, or -1 (empty: none)
+    Eigen::VectorXd diffused_mass_;  // per diffused component: 1ᵀM1
     CholeskySolver solver_;
 };
 
