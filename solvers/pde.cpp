@@ -221,14 +221,44 @@ Eigen::VectorXd HeatSolver::step(const Eigen::VectorXd& u0, int steps) const {
 
 namespace {
 
-// The heat time in units of 2^length_exponent (a time is a squared length).
-double heat_time(const Triangulation& unit, int length_exponent, const GeodesicOptions& options) {
+// The heat time of each component, in units of 2^length_exponent (a time is a squared length):
+// options.time, or h² with h the mean edge length of the component (Crane et al. 2013, m = 1).
+// One h for the whole mesh is far too long on a component far smaller than the rest: its heat
+// is then its mean to within rounding, which leaves no gradient (beside a unit sphere, one 1e-6
+// across got distances up to 1.8e-7 for π·1e-6).
+Eigen::VectorXd heat_times(const Triangulation& unit, const std::vector<int>& component, int count,
+                           int length_exponent, const GeodesicOptions& options) {
     if (!std::isnan(options.time)) {
         check_time_step(options.time, "geodesics");
-        return std::ldexp(options.time, -2 * length_exponent);
+        return Eigen::VectorXd::Constant(count, std::ldexp(options.time, -2 * length_exponent));
     }
-    const double h = unit.length.mean();
-    return h * h;
+    if (count == 1) return Eigen::VectorXd::Constant(1, unit.length.mean() * unit.length.mean());
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(count), edges = Eigen::VectorXd::Zero(count);
+    for (int e = 0; e < unit.num_edges(); ++e) {
+        const int c = component[static_cast<size_t>(unit.E(e, 0))];
+        sum[c] += unit.length[e];
+        edges[c] += 1;
+    }
+    return (sum.array() / edges.array().max(1)).square();  // no edge (a vertex in no face): 0
+}
+
+// The component with the most vertices (the first of them): its heat time is the one reported.
+int largest_component(const std::vector<int>& component, int count) {
+    std::vector<int> size(static_cast<size_t>(count), 0);
+    for (const int c : component) ++size[static_cast<size_t>(c)];
+    return static_cast<int>(std::max_element(size.begin(), size.end()) - size.begin());
+}
+
+// (T / time) L, T the heat time of each vertex's component: M + time·that is M + TL, and
+// symmetric, as L has no entries between components.
+Sparse timed_laplacian(const Sparse& L, const std::vector<int>& component, const Eigen::VectorXd& times, double time) {
+    Sparse timed = L;
+    if (!(time > 0) || (times.array() == time).all()) return timed;  // a time of 0 is refused by name later
+    for (int j = 0; j < timed.outerSize(); ++j) {
+        const double factor = times[component[static_cast<size_t>(j)]] / time;
+        for (Sparse::InnerIterator it(timed, j); it; ++it) it.valueRef() *= factor;
+    }
+    return timed;
 }
 
 std::vector<int> boundary_vertices(const Triangulation& t) {
@@ -265,7 +295,8 @@ HeatGeodesics::HeatGeodesics(const UnitLengths& unit, const GeodesicOptions& opt
 // CPU for ordering and two factorizations). M + tL, L and their pinned forms share L's pattern,
 // hence the ordering; the factorizations are independent, so they run side by side.
 HeatGeodesics::Factorizations HeatGeodesics::factorize(const Triangulation& t, const GeodesicOptions& options,
-                                                       const Sparse& L, const Sparse& M, double time) {
+                                                       const Sparse& L, const Sparse& timed_L, const Sparse& M,
+                                                       double time) {
     std::vector<int> boundary = options.average_boundary_conditions ? boundary_vertices(t) : std::vector<int>{};
     if (boundary.size() == static_cast<size_t>(t.num_vertices)) boundary.clear();
     CholeskySolver ordering;
@@ -273,9 +304,9 @@ HeatGeodesics::Factorizations HeatGeodesics::factorize(const Triangulation& t, c
     const CholeskyOptions shared{.same_ordering_as = &ordering};
     std::optional<HeatSolver> neumann_heat, dirichlet_heat;
     std::optional<PoissonSolver> poisson;
-    std::vector<std::function<void()>> tasks = {[&] { neumann_heat.emplace(L, M, time, std::vector<int>{}, shared); },
+    std::vector<std::function<void()>> tasks = {[&] { neumann_heat.emplace(timed_L, M, time, std::vector<int>{}, shared); },
                                                 [&] { poisson.emplace(L, M, std::vector<int>{}, shared); }};
-    if (!boundary.empty()) tasks.emplace_back([&] { dirichlet_heat.emplace(L, M, time, boundary, shared); });
+    if (!boundary.empty()) tasks.emplace_back([&] { dirichlet_heat.emplace(timed_L, M, time, boundary, shared); });
     // An exception must not leave an OpenMP region: each task's is kept, the first rethrown.
     std::vector<std::exception_ptr> errors(tasks.size());
     const auto run = [&](int i) {
@@ -305,10 +336,11 @@ HeatGeodesics::HeatGeodesics(const UnitLengths& unit, const GeodesicOptions& opt
     : num_vertices_(unit.t().num_vertices),
       length_exponent_(unit.length_exponent),
       divergence_(divergence(unit.t())),
-      time_(heat_time(unit.t(), unit.length_exponent, options)),
-      solvers_(factorize(unit.t(), options, L, M, time_)) {
+      component_(detail::connected_components(L, component_count_)),
+      component_time_(heat_times(unit.t(), component_, component_count_, unit.length_exponent, options)),
+      time_(component_time_[largest_component(component_, component_count_)]),
+      solvers_(factorize(unit.t(), options, L, timed_laplacian(L, component_, component_time_, time_), M, time_)) {
     report_.boundary_vertices = solvers_.dirichlet_vertices;
-    component_ = detail::connected_components(L, component_count_);
     report_.time = std::ldexp(time_, 2 * length_exponent_);
     report_.precompute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

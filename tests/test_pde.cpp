@@ -448,6 +448,31 @@ TEST(Geodesics, TheUnitOfLengthOnlyScalesTheDistance) {
     }
 }
 
+// Each component has the heat time of its own edges: a sphere 2^-10, 2^-20 or 2^-30 across
+// beside a unit sphere has the distances of that sphere alone, scaled. With one time for both,
+// its heat was its mean to rounding and its distances far too short (1.8e-7 for π·1e-6). (The
+// small sphere is the one not moved: moved by 3, its coordinates would keep few of its bits.)
+TEST(Geodesics, EachComponentHasAHeatTimeForItsSize) {
+    const TriangleMesh unit = make_icosphere(3);
+    const Triangulation alone = Triangulation::from_mesh(unit);
+    const Eigen::VectorXd from_0 = heat_geodesic_distance(alone, {0}), from_7 = heat_geodesic_distance(alone, {7});
+    const Eigen::Index n = unit.V.rows();
+    for (const int exponent : {-10, -20, -30}) {
+        const Triangulation t =
+            Triangulation::from_mesh(test::disjoint_union(scaled_by_power_of_two(unit, exponent), unit, 3.0));
+        const HeatGeodesics geodesics(t);
+        const Eigen::VectorXd d = geodesics.distance({7, static_cast<int>(n)});
+        const std::string what = "size 2^" + std::to_string(exponent);
+        const Eigen::VectorXd small = d.head(n).unaryExpr([&](double x) { return std::ldexp(x, -exponent); });
+        EXPECT_LT((small - from_7).cwiseAbs().maxCoeff(), 1e-12) << what;
+        EXPECT_LT((d.tail(n) - from_0).cwiseAbs().maxCoeff(), 1e-12) << what;
+        const double h = alone.length.mean();
+        // The time reported is the first of the two components of the most vertices, the small one.
+        const double time = std::ldexp(h * h, 2 * exponent);
+        EXPECT_NEAR(geodesics.report().time, time, 1e-13 * time) << what;
+    }
+}
+
 // With t far above the squared edge lengths, M + tL loses M to rounding: refused, by name.
 // Below the limit the heat is still conserved (M alone conserves it).
 TEST(Heat, ATimeStepThatSwampsTheMassIsRefused) {

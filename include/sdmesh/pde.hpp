@@ -113,7 +113,8 @@ private:
 };
 
 struct GeodesicOptions {
-    /// Heat time t; NaN (default) means h², h the mean edge length (Crane et al. 2013, m = 1).
+    /// Heat time t; NaN (default) means h², h the mean edge length (Crane et al. 2013, m = 1) of
+    /// each connected component on its own.
     double time = std::numeric_limits<double>::quiet_NaN();
     /// Mass matrix of the heat step.
     MassType mass = MassType::barycentric;
@@ -124,7 +125,7 @@ struct GeodesicOptions {
 };
 
 struct GeodesicReport {
-    double time = 0;               ///< the heat time t used
+    double time = 0;               ///< the heat time t used (of the component with the most vertices)
     int boundary_vertices = 0;     ///< Dirichlet vertices of the second heat solve (0 without one)
     double precompute_seconds = 0; ///< operators and factorizations
 };
@@ -170,17 +171,19 @@ private:
         PoissonSolver poisson;
         int dirichlet_vertices = 0;  // of dirichlet_heat
     };
+    // Heat with timed_L, (T / time) L for the components' times T; Poisson with L.
     static Factorizations factorize(const Triangulation& t, const GeodesicOptions& options,
-                                    const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& M,
-                                    double time);
+                                    const Eigen::SparseMatrix<double>& L, const Eigen::SparseMatrix<double>& timed_L,
+                                    const Eigen::SparseMatrix<double>& M, double time);
 
     int num_vertices_ = 0;
     int length_exponent_ = 0;
     Eigen::SparseMatrix<double> divergence_;  // −Gᵀ·area: its transpose is −area·∇ per face
-    double time_ = 0;  // in unit lengths
-    Factorizations solvers_;
-    std::vector<int> component_;
     int component_count_ = 0;
+    std::vector<int> component_;
+    Eigen::VectorXd component_time_;  // heat time per component, in unit lengths
+    double time_ = 0;                 // the largest component's
+    Factorizations solvers_;
     GeodesicReport report_;
 };
 

@@ -587,5 +587,6 @@ as `sdmesh heat`. Ctrl-C (KeyboardInterrupt) is honoured between steps.)");
          intrinsic=False) -> distances
 
 Geodesic distance (n,) from the nearest source vertex by the heat method, as `sdmesh geodesic`;
-time None: h², h the mean edge length. +inf on components without a source.)");
+time None: h², h the mean edge length of each connected component. +inf on components without a
+source.)");
 }
