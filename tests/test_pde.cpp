@@ -609,6 +609,9 @@ TEST_F(Cli, GeodesicRejectsBadArguments) {
     EXPECT_EQ(run("geodesic " + mesh + " --source 1,x" + out), 2);
     EXPECT_EQ(run("geodesic " + mesh + " --source -1" + out), 2);
     EXPECT_EQ(run("geodesic " + mesh + " --source 12" + out), 7);          // out of range
+    EXPECT_NE(read(dir_ / "err.txt").find("geodesic: --source: vertex 12 is out of range [0, 12) of " + mesh),
+              std::string::npos)
+        << read(dir_ / "err.txt");
     EXPECT_EQ(run("geodesic " + mesh + " --source 1 --time 0" + out), 7);
     EXPECT_FALSE(std::filesystem::exists(dir_ / "d.ply"));
 }

@@ -33,6 +33,7 @@ int run_geodesic(Args& args) {
     const SolverInput input = load_solver_input(path, choices, report);
     if (input.triangulation.num_edges() == 0)
         throw InvalidArgumentError("geodesic: " + path + " has no edges, so there is no distance to compute");
+    check_vertex_range("geodesic", "--source", sources, input.triangulation.num_vertices, path);
     const HeatGeodesics geodesics = about_file(path, [&] { return HeatGeodesics(input.triangulation, options); });
     const auto start = std::chrono::steady_clock::now();
     const Eigen::VectorXd distance = geodesics.distance(sources);

@@ -100,14 +100,13 @@ int run_heat(Args& args) {
     const SolverInput input = load_solver_input(path, choices, report);
     const int n = input.triangulation.num_vertices;
     Eigen::VectorXd u0 = Eigen::VectorXd::Zero(n);
-    if (u0_path) u0 = read_vertex_values(*u0_path, n);
-    else
-        for (int v : parse_vertex_list("--source", *source)) {
-            if (v >= n)
-                throw InvalidArgumentError("heat: --source: vertex " + std::to_string(v) + " is out of range [0, " +
-                                           std::to_string(n) + ")");
-            u0[v] = 1;
-        }
+    if (u0_path) {
+        u0 = read_vertex_values(*u0_path, n);
+    } else {
+        const std::vector<int> sources = parse_vertex_list("--source", *source);
+        check_vertex_range("heat", "--source", sources, n, path);
+        for (const int v : sources) u0[v] = 1;
+    }
     const auto start = std::chrono::steady_clock::now();
     const Eigen::VectorXd u = about_file(path, [&] {
         return HeatSolver(cotan_laplacian(input.triangulation), mass_matrix(input.triangulation, choices.mass.type),

@@ -92,6 +92,15 @@ std::vector<int> parse_vertex_list(const std::string& option, const std::string&
     return vertices;
 }
 
+void check_vertex_range(std::string_view command, std::string_view option, const std::vector<int>& vertices,
+                        int num_vertices, const std::string& path) {
+    for (const int v : vertices)
+        if (v >= num_vertices)
+            throw InvalidArgumentError(std::string(command) + ": " + std::string(option) + ": vertex " +
+                                       std::to_string(v) + " is out of range [0, " + std::to_string(num_vertices) +
+                                       ") of " + path);
+}
+
 Eigen::MatrixXd read_table(const std::string& path, int columns) {
     // Read whole within the cap of mesh files: a link to /dev/zero is refused, not read forever.
     std::istringstream in(io::read_file(path, io::max_text_bytes()));

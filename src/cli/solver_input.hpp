@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -46,6 +47,11 @@ SolverInput load_solver_input(const std::string& path, const SolverChoices& choi
 /// Vertex indices separated by commas ("3,17"), for --source.
 /// \throws UsageError anything else, or no index.
 std::vector<int> parse_vertex_list(const std::string& option, const std::string& text);
+
+/// \throws InvalidArgumentError a vertex index not below `num_vertices`, the vertex count of the
+///         mesh read from `path` ("<command>: <option>: vertex 12 is out of range [0, 12) of PATH").
+void check_vertex_range(std::string_view command, std::string_view option, const std::vector<int>& vertices,
+                        int num_vertices, const std::string& path);
 
 /// A text file of whitespace-separated numbers: `columns` per line (blank lines and lines starting
 /// with '#' skipped), returned row by row.
