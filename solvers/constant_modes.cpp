@@ -36,13 +36,25 @@ void ConstantModes::project_out(Eigen::Ref<Eigen::MatrixXd> X) const {
 }
 
 std::vector<int> ConstantModes::lost_shift(const Sparse& L, double s) const {
+    // The diagonal entries grouped by mode (a counting sort), for each group's median.
+    std::vector<int> start(static_cast<size_t>(count()) + 1, 0);
+    for (const int mode : mode_of)
+        if (mode >= 0) ++start[static_cast<size_t>(mode) + 1];
+    for (size_t j = 0; j < static_cast<size_t>(count()); ++j) start[j + 1] += start[j];
+    std::vector<double> grouped(static_cast<size_t>(start.back()));
+    std::vector<int> next(start.begin(), start.end() - 1);
     const Eigen::VectorXd diagonal = L.diagonal();
-    Eigen::VectorXd stiffness = Eigen::VectorXd::Zero(count()), unknowns = Eigen::VectorXd::Zero(count());
-    for (Eigen::Index i = 0; i < diagonal.size(); ++i)
-        if (mode_of[i] >= 0) stiffness[mode_of[i]] += diagonal[i], unknowns[mode_of[i]] += 1;
+    for (size_t i = 0; i < mode_of.size(); ++i)
+        if (const int mode = mode_of[i]; mode >= 0)
+            grouped[static_cast<size_t>(next[static_cast<size_t>(mode)]++)] = diagonal[static_cast<Eigen::Index>(i)];
     std::vector<int> lost;
-    for (int j = 0; j < count(); ++j)
-        if (s * mass[j] < kLostShift * stiffness[j] / unknowns[j]) lost.push_back(j);
+    for (int j = 0; j < count(); ++j) {
+        const auto begin = grouped.begin() + start[static_cast<size_t>(j)];
+        const auto end = grouped.begin() + start[static_cast<size_t>(j) + 1];
+        const auto middle = begin + (end - begin) / 2;
+        std::nth_element(begin, middle, end);
+        if (s * mass[j] < kLostShift * *middle) lost.push_back(j);
+    }
     return lost;
 }
 
