@@ -175,9 +175,10 @@ Sparse HeatSolver::pinned_matrix(double t) {
     std::vector<double> mass;
     for (const int j : modes.lost_shift(L_, 1 / t)) {
         if (held[static_cast<size_t>(j)]) continue;
+        pinned_.push_back(modes.first[static_cast<size_t>(j)]);
+        if (!(modes.mass[j] > 0)) continue;  // no heat to restore (0 then, as L u = 0 there)
         diffused_of_mode[static_cast<size_t>(j)] = static_cast<int>(mass.size());
         mass.push_back(modes.mass[j]);
-        pinned_.push_back(modes.first[static_cast<size_t>(j)]);
     }
     diffused_mass_ = Eigen::Map<const Eigen::VectorXd>(mass.data(), static_cast<Eigen::Index>(mass.size()));
     diffused_of_.clear();

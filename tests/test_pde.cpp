@@ -380,6 +380,22 @@ TEST(Heat, AComponentFarSmallerThanTheTimeStepIsSmoothedToItsMean) {
     }
 }
 
+// Through the library a component may come with no mass at all (here a sphere's block of M set to
+// 0): tL alone is singular there, and with nothing to diffuse the step leaves 0 on it, finite.
+TEST(Heat, AComponentWithoutMassKeepsNoHeat) {
+    const TriangleMesh unit = make_icosphere(1);
+    const Triangulation t = Triangulation::from_mesh(test::disjoint_union(unit, unit, 3.0));
+    const Eigen::Index half = unit.V.rows();
+    const Sparse L = cotan_laplacian(t);
+    Sparse M = mass_matrix(t);
+    for (int j = static_cast<int>(half); j < M.outerSize(); ++j)
+        for (Sparse::InnerIterator it(M, j); it; ++it) it.valueRef() = 0;
+    Eigen::VectorXd u0 = Eigen::VectorXd::Ones(2 * half);
+    const Eigen::VectorXd u = HeatSolver(L, M, 0.1).step(u0, 2);
+    EXPECT_TRUE(u.tail(half).isZero(0)) << u.tail(half).transpose();
+    EXPECT_LT((u.head(half) - Eigen::VectorXd::Ones(half)).cwiseAbs().maxCoeff(), 1e-14);
+}
+
 // ---- heat-method geodesics ---------------------------------------------------------------------------
 
 // Mean of |d − exact| / exact over the vertices where exact > 0.
