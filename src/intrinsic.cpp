@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,13 +36,43 @@ constexpr size_t kLookahead = 4;
 // A non-LD hinge is a strictly convex quadrilateral, so the exact |rs| lies strictly inside the
 // triangle inequalities of the new faces (r, p, s) and (s, q, r); when its angle at p or q is
 // within ~1e-8 of π, rounding can push the computed value onto or past a bound, and the clamp
-// below moves it back by a few ulps (a rounding-level change of the metric).
-double flipped_length(double l, double a, double b, double c, double d) {
+// below moves it back by a few ulps (a rounding-level change of the metric). No length fits
+// when the bounds cross, which a hinge flat within rounding allows (both faces of nearly zero
+// area, its four vertices nearly on a line): the flip would make a face of zero area, and the
+// edge is left as it is (nullopt). Two such slivers of an unseen mesh (speaker3.obj) were
+// flipped into one of zero area, whose cotangents came out infinite.
+std::optional<double> flipped_length(double l, double a, double b, double c, double d) {
     const double dx = ((a - b) * (a + b) - (c - d) * (c + d)) / (2 * l);
     const double dy = 2 * (triangle_area(l, a, b) + triangle_area(l, c, d)) / l;
     const double lower = std::max(std::abs(a - c), std::abs(b - d)) * kAbove;
     const double upper = std::min(a + c, b + d) * kBelow;
+    if (lower > upper) return std::nullopt;
     return std::min(std::max(std::sqrt(dx * dx + dy * dy), lower), upper);
+}
+
+// The hinge of an edge: h runs p -> q in face (r, p, q), its twin q -> p in (s, q, p); l = |pq|,
+// a = |rp|, b = |qr|, c = |ps|, d = |sq|.
+struct Hinge {
+    int h = -1, tw = -1;
+    double l = 0, a = 0, b = 0, c = 0, d = 0;
+};
+
+// Whether edge e is interior and not LD within the tolerance, with its hinge. An edge whose two
+// sides lie in one face never is: its opposite angles are two corners of one triangle.
+bool needs_flip(const HalfedgeMesh& mesh, int e, double tolerance, Hinge& hinge) {
+    const int h = mesh.halfedge(e), tw = mesh.twin(h);
+    if (tw < 0 || HalfedgeMesh::face(h) == HalfedgeMesh::face(tw)) return false;
+    hinge = {h,
+             tw,
+             mesh.side_length(h),
+             mesh.side_length(HalfedgeMesh::prev(h)),
+             mesh.side_length(HalfedgeMesh::next(h)),
+             mesh.side_length(HalfedgeMesh::next(tw)),
+             mesh.side_length(HalfedgeMesh::prev(tw))};
+    // Two non-obtuse opposite angles make the edge LD (the cheap test first).
+    if (cosine_numerator(hinge.l, hinge.a, hinge.b) >= 0 && cosine_numerator(hinge.l, hinge.c, hinge.d) >= 0)
+        return false;
+    return !is_locally_delaunay(hinge.l, hinge.a, hinge.b, hinge.c, hinge.d, tolerance);
 }
 
 // The two faces of every interior edge must run along it in opposite directions, i.e. its
@@ -113,6 +144,7 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
     // outer edges of its hinge are pushed and so tested next, while they are still in cache.
     std::vector<char> queued;
     detail::prefaulted_assign(queued, static_cast<size_t>(ne), char{0});
+    std::vector<char> flat_hinge(static_cast<size_t>(ne), 0);  // left unflipped (flipped_length)
     // The same pass copies the edge lengths onto the sides of the mesh, so that a hinge test
     // reads two face records instead of five scattered edge lengths.
     for (int f = 0; f < t.num_faces(); ++f) {
@@ -143,25 +175,23 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
         const size_t n = stack.size();
         if (n > 2 * kLookahead) mesh.prefetch(mesh.halfedge(stack[n - 1 - 2 * kLookahead]));
         if (n > kLookahead) mesh.prefetch(mesh.twin(mesh.halfedge(stack[n - 1 - kLookahead])));
-        // h runs p -> q in face (r, p, q), its twin q -> p in (s, q, p). An edge whose two sides
-        // lie in one face is never flipped: its opposite angles are two corners of one triangle,
-        // so it is LD.
-        const int h = mesh.halfedge(e), tw = mesh.twin(h);
-        if (tw < 0 || HalfedgeMesh::face(h) == HalfedgeMesh::face(tw)) continue;
-        const int h_qr = HalfedgeMesh::next(h), h_rp = HalfedgeMesh::prev(h);
-        const int h_ps = HalfedgeMesh::next(tw), h_sq = HalfedgeMesh::prev(tw);
-        const double l = mesh.side_length(h), a = mesh.side_length(h_rp), b = mesh.side_length(h_qr);
-        const double c = mesh.side_length(h_ps), d = mesh.side_length(h_sq);
-        // The same shortcut: two non-obtuse opposite angles make the edge LD.
-        if (cosine_numerator(l, a, b) >= 0 && cosine_numerator(l, c, d) >= 0) continue;
-        if (is_locally_delaunay(l, a, b, c, d, tolerance)) continue;
+        Hinge hinge;
+        if (!needs_flip(mesh, e, tolerance, hinge)) continue;
         if (flips == budget) {
             exhausted = true;
             break;
         }
+        const std::optional<double> flipped = flipped_length(hinge.l, hinge.a, hinge.b, hinge.c, hinge.d);
+        if (!flipped) {
+            flat_hinge[e] = 1;  // counted at the end, unless a later flip makes it LD
+            continue;
+        }
+        const int h = hinge.h, tw = hinge.tw;
+        const int h_qr = HalfedgeMesh::next(h), h_rp = HalfedgeMesh::prev(h);
+        const int h_ps = HalfedgeMesh::next(tw), h_sq = HalfedgeMesh::prev(tw);
         const int e_rp = mesh.edge(h_rp), e_qr = mesh.edge(h_qr);
         const int e_ps = mesh.edge(h_ps), e_sq = mesh.edge(h_sq);
-        const double rs = flipped_length(l, a, b, c, d);
+        const double rs = *flipped;
         len[e] = rs;
         mesh.flip(e);
         mesh.set_side_length(mesh.halfedge(e), rs);  // both sides of e, now s->r and r->s
@@ -179,7 +209,13 @@ IntrinsicResult intrinsic_delaunay(const Triangulation& t, const IntrinsicOption
     IntrinsicReport& report = result.report;
     report.flip_seconds = std::chrono::duration<double>(loop_end - loop_start).count();
     report.flips = flips;
-    report.status = exhausted ? "flip_budget_exhausted" : "delaunay";
+    for (int e = 0; e < ne; ++e) {
+        Hinge hinge;
+        if (flat_hinge[e] && needs_flip(mesh, e, tolerance, hinge)) ++report.unflippable_edges;
+    }
+    report.status = exhausted                      ? "flip_budget_exhausted"
+                    : report.unflippable_edges > 0 ? "unflippable_edges"
+                                                   : "delaunay";
     count_improper_edges(result.triangulation, report);
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

@@ -399,6 +399,28 @@ TEST(Intrinsic, NearlyStraightFlipStaysATriangle) {
     EXPECT_NEAR(total_area(idt.triangulation), total_area(t), 1e-12 * total_area(t));
 }
 
+// A hinge flat within rounding, from an unseen mesh (speaker3.obj): both faces have an angle
+// within ~1e-8 of π, at r and at p, so the four vertices lie nearly on a line. It is not LD
+// (margin below -1e-10), but no length of rs keeps both new faces inside the triangle
+// inequality: the flip made a face of zero area, whose cotangents came out infinite. The edge
+// stays, counted, and the status says so.
+TEST(Intrinsic, AHingeFlatWithinRoundingIsLeftUnflipped) {
+    const double l = 28.596145000000281, a = 22.921585000000196, b = 5.6745600000000875, c = 3.9796110000001241,
+                 d = 32.575756000000382;
+    Eigen::MatrixX3i F(2, 3);
+    F << 2, 0, 1, 3, 1, 0;  // (r, p, q) and (s, q, p)
+    Eigen::MatrixX3d side(2, 3);
+    side << l, b, a, l, c, d;
+    const Triangulation t = Triangulation::from_side_lengths(F, side, 4);
+    ASSERT_LT(delaunay_margin(l, a, b, c, d), -kDelaunayTolerance);
+    const IntrinsicResult idt = intrinsic_delaunay(t);
+    EXPECT_EQ(idt.report.flips, 0);
+    EXPECT_EQ(idt.report.unflippable_edges, 1);
+    EXPECT_EQ(idt.report.status, "unflippable_edges");
+    EXPECT_NO_THROW(idt.triangulation.check());
+    EXPECT_TRUE(cotan_laplacian(idt.triangulation).coeffs().allFinite());
+}
+
 TEST(Intrinsic, ProperIsTrueOnOrdinaryMeshes) {
     const IntrinsicResult idt = intrinsic_delaunay(Triangulation::from_mesh(make_grid(10, 8, 1.0, 1.0, 1.5)));
     EXPECT_GT(idt.report.flips, 0);

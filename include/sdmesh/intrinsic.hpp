@@ -46,7 +46,13 @@ struct IntrinsicReport {
     bool proper = true;       ///< no self-edges and no repeated edges in the result
     int self_edges = 0;       ///< edges whose two ends are the same vertex
     int repeated_edges = 0;   ///< edges joining the same two vertices as an edge of smaller id
-    std::string status;       ///< "delaunay" (every interior edge LD) or "flip_budget_exhausted"
+    /// Interior edges left not LD because no length fits their flipped diagonal: a hinge flat
+    /// within rounding (two faces of nearly zero area, four vertices nearly on a line), whose
+    /// flip would make a face of zero area.
+    int unflippable_edges = 0;
+    /// "delaunay" (every interior edge LD), "unflippable_edges" (every one but those) or
+    /// "flip_budget_exhausted".
+    std::string status;
     double seconds = 0;       ///< wall-clock time of the whole call
     double flip_seconds = 0;  ///< of which the Lawson loop (tests and flips)
 };
@@ -60,7 +66,7 @@ struct IntrinsicResult {
     IntrinsicReport report;
 };
 
-/// Flips the interior edges of t until every one is LD within options.tolerance.
+/// Flips the interior edges of t until every one is LD within options.tolerance, or unflippable.
 /// \pre t satisfies Triangulation::check() (verified) and is consistently oriented: the two
 ///      faces of an interior edge run along it in opposite directions (verified). A vertex with
 ///      several fans of faces is treated as one cone point per fan that happen to share an id.

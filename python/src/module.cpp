@@ -294,7 +294,7 @@ py::tuple intrinsic_operators_py(py::handle V, py::handle F, const std::string& 
         py::gil_scoped_release unlocked;
         idt = intrinsic_delaunay(Triangulation::from_mesh(mesh), options);
     }
-    if (const std::string shortfall = cli::flip_budget_message(idt.report); !shortfall.empty())
+    if (const std::string shortfall = cli::intrinsic_shortfall(idt.report); !shortfall.empty())
         warn("intrinsic_operators: " + shortfall);
     cli::JsonObject report;
     py::dict operators = operator_dict(idt.triangulation, choice, &report);
@@ -331,7 +331,7 @@ Operators solver_operators(py::handle first, py::handle second, const std::optio
         if (intrinsic) {
             IntrinsicResult idt = intrinsic_delaunay(t);
             t = std::move(idt.triangulation);
-            shortfall = cli::flip_budget_message(idt.report);
+            shortfall = cli::intrinsic_shortfall(idt.report);
         }
     }
     if (!shortfall.empty()) warn("intrinsic: " + shortfall);
@@ -540,7 +540,8 @@ Raises InvalidMeshError (non-manifold edge, repeated index, zero-length edge...)
 The operators of operators() on the intrinsic Delaunay triangulation of the mesh (same vertices,
 edges flipped), and the report of `sdmesh intrinsic` (without "file"): flips, proper, status...
 max_flips < 0: automatic budget; status "flip_budget_exhausted" (a RuntimeWarning says so) when it
-runs out. The solvers' intrinsic=True warns the same way.)");
+runs out, "unflippable_edges" (likewise) when edges whose hinges are flat within rounding stay not
+locally Delaunay. The solvers' intrinsic=True warns the same way.)");
 
     m.def("eigs", &eigs_py, arg("V_or_L"), arg("F_or_M"), arg("k") = eigen_defaults.k, py::kw_only(),
           arg("mass") = py::none(), arg("intrinsic") = false, arg("sigma") = py::none(),

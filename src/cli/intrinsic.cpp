@@ -36,7 +36,7 @@ int run_intrinsic(Args& args) {
     report.merge(intrinsic_json(options, idt.report))
         .add("seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     write_report(dir, report);
-    return exit_code_after("intrinsic", path, {flip_budget_message(idt.report)});
+    return exit_code_after("intrinsic", path, {intrinsic_shortfall(idt.report)});
 }
 
 }  // namespace sdmesh::cli

@@ -47,7 +47,8 @@ Commands:
   intrinsic MESH --out DIR [--mass ...] [--tolerance RAD] [--max-flips N]
                                   the same files for the intrinsic Delaunay triangulation (edge
                                   flips, vertices kept); report.json adds flips, proper, status;
-                                  exit 1 if the flips run out of their budget
+                                  exit 1 if the flips run out of their budget or leave
+                                  unflippable edges
   eigs MESH -k K --out DIR [--mass ...] [--convert split|hybrid|flip | --intrinsic] [--sigma S]
           [--tolerance T] [--solver block|spectra] [--progress]
                                   the K smallest eigenpairs of L φ = λ M φ: eigenvalues.csv,

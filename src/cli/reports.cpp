@@ -197,6 +197,7 @@ JsonObject intrinsic_json(const IntrinsicOptions& options, const IntrinsicReport
         .add("proper", r.proper)
         .add("self_edges", r.self_edges)
         .add("repeated_edges", r.repeated_edges)
+        .add("unflippable_edges", r.unflippable_edges)
         .add("status", r.status)
         .add("intrinsic_seconds", r.seconds)
         .add("flip_seconds", r.flip_seconds);
@@ -209,10 +210,15 @@ std::string not_certified_summary(const ConversionReport& report) {
            std::to_string(report.certificate.boundary_obtuse_edges) + " obtuse boundary edges left)";
 }
 
-std::string flip_budget_message(const IntrinsicReport& report) {
-    if (report.status != "flip_budget_exhausted") return {};
-    return "the intrinsic flips ran out of their budget after " + std::to_string(report.flips) +
-           " flips: the triangulation is not Delaunay (--max-flips sets the budget)";
+std::string intrinsic_shortfall(const IntrinsicReport& report) {
+    if (report.status == "flip_budget_exhausted")
+        return "the intrinsic flips ran out of their budget after " + std::to_string(report.flips) +
+               " flips: the triangulation is not Delaunay (--max-flips sets the budget)";
+    if (report.unflippable_edges > 0)
+        return "the intrinsic triangulation is not Delaunay: " + std::to_string(report.unflippable_edges) +
+               " interior edges are not, and no flip can mend them, their hinges being flat within rounding "
+               "(faces of nearly zero area)";
+    return {};
 }
 
 std::string not_converged_message(const EigenReport& report) {

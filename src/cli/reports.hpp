@@ -75,8 +75,9 @@ JsonObject intrinsic_json(const IntrinsicOptions& options, const IntrinsicReport
 /// conversion that is not certified says where `sdmesh convert`'s own advice does not apply.
 std::string not_certified_summary(const ConversionReport& report);
 
-/// Why intrinsic flips did not reach the iDT ("ran out of their budget ..."); empty when they did.
-std::string flip_budget_message(const IntrinsicReport& report);
+/// Why intrinsic flips did not reach the iDT (their budget ran out, or edges were unflippable);
+/// empty when they did.
+std::string intrinsic_shortfall(const IntrinsicReport& report);
 
 /// The solver part of `sdmesh eigs`'s report.json (k, converged_pairs, status, ..., seconds).
 JsonObject eigen_json(int k, const EigenResult& result);

@@ -63,7 +63,7 @@ SolverInput load_solver_input(const std::string& path, const SolverChoices& choi
             IntrinsicResult idt = intrinsic_delaunay(input.triangulation);
             input.triangulation = std::move(idt.triangulation);
             report.add("mesh", "intrinsic").add("flips", idt.report.flips).add("flip_status", idt.report.status);
-            input.shortfall = flip_budget_message(idt.report);
+            input.shortfall = intrinsic_shortfall(idt.report);
         }
         if (!choices.convert && !choices.intrinsic) report.add("mesh", "extrinsic");
     });
