@@ -466,8 +466,12 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     const int sought = deflate ? k - known : k;
     const LanczosSize size = lanczos_size(sought, deflate ? complement : n, options);
     Deflation deflation{modes, {}};
-    if (deflate && !dense)
-        for (const int j : modes.lost_shift(L_unit, -report.sigma)) deflation.grounded.push_back(modes.first[j]);
+    const auto ground = [&] {  // for the shift report.sigma
+        deflation.grounded.clear();
+        if (deflate && !dense)
+            for (const int j : modes.lost_shift(L_unit, -report.sigma)) deflation.grounded.push_back(modes.first[j]);
+    };
+    ground();
     const Deflation* deflated = deflate ? &deflation : nullptr;
     if (options.progress && !block && sought > 0)
         std::fprintf(stderr, "eigs: Spectra's Lanczos for %d pairs (n = %d; no lines until it ends)\n", sought, n);
@@ -476,6 +480,24 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
                        : dense     ? dense_eigenpairs(L_unit, M_unit, sought, deflate ? &modes : nullptr, report)
                        : block     ? block_eigenpairs(L_unit, M_unit, sought, nev, basis, options, deflated, report)
                                    : spectra_eigenpairs(L_unit, M_unit, sought, nev, basis, options, deflated, report);
+    // The automatic shift can sit far below the spectrum, where the transformed eigenvalues
+    // 1/(λ - σ) crowd together and the basis fills before they converge: on a CAD plate whose
+    // slivers raise the median weight sum, σ was 30 times the first eigenvalue below 0, and 160
+    // columns did not converge 4 pairs. Then a second run starts from a tenth of the smallest
+    // Ritz value below 0 (an upper bound of λ₁, so the shift stays below the spectrum).
+    if (block && !dense && std::isnan(options.sigma) && report.status == EigenStatus::not_converged &&
+        pairs.values.size() > 0 && pairs.values.minCoeff() > 0 && -report.sigma > pairs.values.minCoeff()) {
+        const int solves = report.solves, iterations = report.iterations;
+        const double sigma = report.sigma;
+        report.sigma = -0.1 * pairs.values.minCoeff();
+        if (options.progress)
+            std::fprintf(stderr, "eigs: not converged with sigma = %g; again with sigma = %g, nearer the spectrum\n",
+                         sigma / to_unit, report.sigma / to_unit);
+        ground();
+        pairs = block_eigenpairs(L_unit, M_unit, sought, nev, basis, options, deflated, report);
+        report.solves += solves;
+        report.iterations += iterations;
+    }
     if (deflate) pairs = with_constant_modes(pairs, modes, k);
     measure_accuracy(L_unit, M_unit, pairs.values, pairs.vectors, report);  // relative: the same in any unit
     report.sigma /= to_unit;

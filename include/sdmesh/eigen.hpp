@@ -41,7 +41,10 @@ struct EigenOptions {
     /// trace(M), minus the median cotan weight sum over the area. It is invariant under
     /// refinement and scales like 1/area, as the low eigenvalues do, and sits an order of
     /// magnitude below the first non-zero one on compact surfaces; slivers, whose weight sums
-    /// can be 10⁶ times the others, do not move it as they moved the mean.
+    /// can be 10⁶ times the others, do not move it as they moved the mean. Where slivers are
+    /// most of the faces (CAD meshes), the median can still put it far below the spectrum; when
+    /// block Lanczos then fills its basis unconverged, it runs once more from a tenth of its
+    /// smallest Ritz value below 0 (the report gives that shift, and both runs' solves).
     double sigma = std::numeric_limits<double>::quiet_NaN();
     EigenSolver solver = EigenSolver::block_lanczos;
     /// Relative tolerance of the Lanczos Ritz values: residual ≤ tolerance · |θ| with
