@@ -484,9 +484,12 @@ EigenResult smallest_eigenpairs(const Sparse& L_full, const Sparse& M_full, cons
     // 1/(λ - σ) crowd together and the basis fills before they converge: on a CAD plate whose
     // slivers raise the median weight sum, σ was 30 times the first eigenvalue below 0, and 160
     // columns did not converge 4 pairs. Then a second run starts from a tenth of the smallest
-    // Ritz value below 0 (an upper bound of λ₁, so the shift stays below the spectrum).
+    // Ritz value below 0 (an upper bound of λ₁, so the shift stays below the spectrum). Not when
+    // that value is nearly 0 against σ: a zero eigenvalue not deflated (its rows' sums not 0 to
+    // rounding) would leave L − σM nearly singular.
     if (block && !dense && std::isnan(options.sigma) && report.status == EigenStatus::not_converged &&
-        pairs.values.size() > 0 && pairs.values.minCoeff() > 0 && -report.sigma > pairs.values.minCoeff()) {
+        pairs.values.size() > 0 && pairs.values.minCoeff() > 1e-6 * -report.sigma &&
+        pairs.values.minCoeff() < -report.sigma) {
         const int solves = report.solves, iterations = report.iterations;
         const double sigma = report.sigma;
         report.sigma = -0.1 * pairs.values.minCoeff();
