@@ -57,7 +57,9 @@ void check_geometry(const Triangulation& t) {
         if (!(triangle_area(t.side(f, 0), t.side(f, 1), t.side(f, 2)) > 0))
             fail("face " + std::to_string(f) + " has zero area by its side lengths " +
                  detail::number_text(t.side(f, 0)) + ", " + detail::number_text(t.side(f, 1)) + " and " +
-                 detail::number_text(t.side(f, 2)) + " (a corner within rounding of 180 degrees)");
+                 detail::number_text(t.side(f, 2)) +
+                 " (a corner within rounding of 180 degrees; conversion, by sdmesh convert or a solver's "
+                 "--convert split, can split such a face away)");
 }
 
 }  // namespace
